@@ -1,0 +1,16 @@
+//! axle: a model language and compiler for car suspensions.
+//!
+//! One pipeline, one model:
+//! 1. source text → syntax tree with spans ([`syntax::parse`]);
+//! 2. syntax tree → checked [`model::Model`] ([`check::check_file`]): names resolved,
+//!    units checked and converted to internal units (mm, N, rad), mobility analysed;
+//! 3. backends read the model: [`statics`] (equilibrium, K&C), the printer
+//!    ([`fmt`]), and later identification, diagnosis and ADAMS emitters.
+//!
+//! Only `main.rs` and `cli/` touch the filesystem.
+
+pub mod geom;
+pub mod model;
+pub mod source;
+pub mod span;
+pub mod units;
