@@ -14,3 +14,5 @@ pub mod model;
 pub mod source;
 pub mod span;
 pub mod units;
+pub mod diagnostic;
+pub mod syntax;

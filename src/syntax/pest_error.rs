@@ -1,0 +1,136 @@
+//! pest errors → readable diagnostics: rule names become words ("a unit such as
+//! `mm` or `N/mm`"), literal tokens are quoted, and the label says what was found.
+
+use super::parser::Rule;
+use crate::diagnostic::Diagnostic;
+use crate::span::{FileId, Span};
+use pest::error::{Error, ErrorVariant, InputLocation};
+
+/// Words for a rule the parser expected, or `None` for rules that never help.
+fn describe(rule: Rule) -> Option<&'static str> {
+    use Rule::*;
+    Some(match rule {
+        unit | unit_name | unit_factor => "a unit such as `mm` or `N/mm`",
+        eol | nls => "the end of the line",
+        EOI => "the end of the file",
+        ident | param_ref => "a name",
+        number | signed_number => "a number",
+        quantity | expr | term | factor | power | paren | call | neg | bound | open_bound => {
+            "a value such as `310 N/mm`"
+        }
+        vector => "a vector such as `(0, 0, 1) mm`",
+        marker_ref => "a marker such as `chassis.B`",
+        add_op | mul_op => "an operator",
+        value => "a value",
+        property => "a property such as `k (310, 2400, 180) N/mm`",
+        body => "`{`",
+        marker_decl | landmark_decl | kw_marker | kw_landmark => "`marker` or `landmark`",
+        model_decl | import_decl | default_decl | param_decl | part_decl | element_decl
+        | loads_decl | part_kw | element_kw | kw_model | kw_import | kw_default | kw_param
+        | kw_ground | kw_part | kw_joint | kw_bushing | kw_spring | kw_stop | kw_wheel
+        | kw_loads => "an item such as `part`, `joint`, `bushing`, `spring`, `loads` or `param`",
+        kw_unknown | unknown => "`unknown`",
+        bounds => "bounds such as `[100 N/mm, 900 N/mm]`",
+        kw_table => "`table`",
+        kw_sweep => "`sweep`",
+        load_table => "`table (...)`",
+        load_sweep => "`sweep`",
+        kw_by => "`by`",
+        kw_at => "`at`",
+        kw_euler | euler => "`euler`",
+        kw_z | directions => "`z`",
+        kw_x => "`x`",
+        table => "a table such as `table (mm, N) [(0, 0), (5, 5000)]`",
+        list => "a list such as `[500 N/mm, 20 N/mm^2]`",
+        pair => "a point such as `(5, 5000)`",
+        channel => "a load channel such as `fz`, `left.fz` or `arm.tip.fx`",
+        column => "a column such as `fz N`",
+        row => "a row: a case name and its values",
+        sweep_line => "a sweep line such as `fz 1000 N -> 8000 N by 250 N`",
+        _ => return None,
+    })
+}
+
+fn token_words(token: &str) -> Option<String> {
+    match token {
+        " " | "\t" | "//" | "_" => None,
+        "\n" | "\r\n" | "\r" => Some("the end of the line".into()),
+        // Parts of numbers and units, character ranges and built-in rules: noise here.
+        "e" | "E" | "." | "^" | "+" => None,
+        t if t.contains("..") || t.is_empty() => None,
+        t => Some(format!("`{t}`")),
+    }
+}
+
+/// What stands at the error position, for the label.
+fn found(text: &str, pos: usize) -> String {
+    let rest = text[pos.min(text.len())..].trim_start_matches([' ', '\t']);
+    match rest.chars().next() {
+        None => "the end of the file".into(),
+        Some('\n') | Some('\r') => "the end of the line".into(),
+        Some(c) if c.is_alphanumeric() || c == '_' => {
+            let w: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == '.')
+                .collect();
+            format!("`{w}`")
+        }
+        Some(c) => format!("`{c}`"),
+    }
+}
+
+fn join_or(items: &[String]) -> String {
+    match items {
+        [] => "something else".into(),
+        [a] => a.clone(),
+        [init @ .., last] => format!("{}, or {last}", init.join(", ")),
+    }
+}
+
+pub fn to_diagnostic(file: FileId, text: &str, e: &Error<Rule>) -> Diagnostic {
+    let mut pos = match e.location {
+        InputLocation::Pos(p) => p,
+        InputLocation::Span((s, _)) => s,
+    };
+    let mut words: Vec<String> = Vec::new();
+    let mut push = |w: String| {
+        if !words.contains(&w) {
+            words.push(w);
+        }
+    };
+    if let Some(att) = e.parse_attempts() {
+        pos = pos.max(att.max_position);
+        for cs in att.call_stacks() {
+            let rule = cs.deepest.get_rule().copied().or(cs.parent);
+            if let Some(w) = rule.and_then(describe) {
+                push(w.to_string());
+            }
+        }
+        for t in att.expected_tokens() {
+            if let Some(w) = token_words(&t.to_string()) {
+                push(w);
+            }
+        }
+    }
+    if let ErrorVariant::ParsingError { positives, .. } = &e.variant {
+        for r in positives {
+            if let Some(w) = describe(*r) {
+                push(w.to_string());
+            }
+        }
+    }
+    // A unit is the most specific thing a number can still take; say it first.
+    words.sort_by_key(|w| !w.starts_with("a unit"));
+    // Point at the offending token, not at the blank before it.
+    pos += text[pos.min(text.len())..].len() - text[pos.min(text.len())..].trim_start_matches([' ', '\t']).len();
+    let what = found(text, pos);
+    let expected = join_or(&words);
+    let end = (pos + 1).min(text.len()).max(pos);
+    let span = Span::new(file, pos, if what.starts_with("the end") { pos } else { end });
+    let mut d = Diagnostic::error("E0001", format!("syntax error: expected {expected}"))
+        .primary(span, format!("found {what}"));
+    if words.iter().any(|w| w.starts_with("a unit")) && what.starts_with('`') {
+        d = d.hint("units are written right after the number, without spaces inside: `13875 N/mm`, `4000 N*mm/deg`");
+    }
+    d
+}
