@@ -16,3 +16,7 @@ pub mod span;
 pub mod units;
 pub mod diagnostic;
 pub mod syntax;
+pub mod check;
+pub mod stdlib;
+pub mod cli;
+pub mod fmt;

@@ -55,27 +55,35 @@ fn token_words(token: &str) -> Option<String> {
     match token {
         " " | "\t" | "//" | "_" => None,
         "\n" | "\r\n" | "\r" => Some("the end of the line".into()),
+        "+" | "-" | "*" | "/" => Some("an operator".into()),
         // Parts of numbers and units, character ranges and built-in rules: noise here.
-        "e" | "E" | "." | "^" | "+" => None,
+        "e" | "E" | "." | "^" => None,
+        t if crate::units::base_unit(t).is_some() => Some("a unit such as `mm` or `N/mm`".into()),
         t if t.contains("..") || t.is_empty() => None,
         t => Some(format!("`{t}`")),
     }
 }
 
-/// What stands at the error position, for the label.
-fn found(text: &str, pos: usize) -> String {
-    let rest = text[pos.min(text.len())..].trim_start_matches([' ', '\t']);
-    match rest.chars().next() {
-        None => "the end of the file".into(),
-        Some('\n') | Some('\r') => "the end of the line".into(),
-        Some(c) if c.is_alphanumeric() || c == '_' => {
-            let w: String = rest
-                .chars()
-                .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == '.')
-                .collect();
-            format!("`{w}`")
-        }
-        Some(c) => format!("`{c}`"),
+/// The whole word or character at the error position, as a byte range.
+fn found_range(text: &str, pos: usize) -> (usize, usize) {
+    let pos = pos.min(text.len());
+    let is_word = |c: char| c.is_alphanumeric() || c == '_';
+    let inside_word = text[pos..].chars().next().is_some_and(is_word);
+    let start = if !inside_word { pos } else { text[..pos].char_indices().rev().take_while(|(_, c)| is_word(*c)).last().map_or(pos, |(i, _)| i) };
+    let rest = &text[start..];
+    let len = match rest.chars().next() {
+        None | Some('\n') | Some('\r') => 0,
+        Some(c) if is_word(c) => rest.find(|c: char| !is_word(c)).unwrap_or(rest.len()),
+        Some(c) => c.len_utf8(),
+    };
+    (start, start + len)
+}
+
+fn describe_found(text: &str, (s, e): (usize, usize)) -> String {
+    if s == e {
+        if s >= text.len() { "the end of the file".into() } else { "the end of the line".into() }
+    } else {
+        format!("`{}`", &text[s..e])
     }
 }
 
@@ -119,18 +127,29 @@ pub fn to_diagnostic(file: FileId, text: &str, e: &Error<Rule>) -> Diagnostic {
             }
         }
     }
-    // A unit is the most specific thing a number can still take; say it first.
-    words.sort_by_key(|w| !w.starts_with("a unit"));
     // Point at the offending token, not at the blank before it.
-    pos += text[pos.min(text.len())..].len() - text[pos.min(text.len())..].trim_start_matches([' ', '\t']).len();
-    let what = found(text, pos);
+    let after = text[pos.min(text.len())..].trim_start_matches([' ', '\t']);
+    pos = text.len() - after.len();
+    let range = found_range(text, pos);
+    // Right after a complete value another value cannot start: drop the noise.
+    let before = text[..range.0].trim_end_matches([' ', '\t']);
+    if before.ends_with(|c: char| c.is_alphanumeric() || c == ')') {
+        words.retain(|w| !w.starts_with("a value such as"));
+    }
+    // A unit is the most specific thing a number can still take; say it first.
+    words.sort_by_key(|w| (!w.starts_with("a unit"), w.starts_with("an operator")));
+    let what = describe_found(text, range);
     let expected = join_or(&words);
-    let end = (pos + 1).min(text.len()).max(pos);
-    let span = Span::new(file, pos, if what.starts_with("the end") { pos } else { end });
+    let span = Span::new(file, range.0, range.1);
     let mut d = Diagnostic::error("E0001", format!("syntax error: expected {expected}"))
         .primary(span, format!("found {what}"));
-    if words.iter().any(|w| w.starts_with("a unit")) && what.starts_with('`') {
-        d = d.hint("units are written right after the number, without spaces inside: `13875 N/mm`, `4000 N*mm/deg`");
+    let word = what.starts_with('`') && what[1..].starts_with(|c: char| c.is_alphabetic());
+    if words.iter().any(|w| w.starts_with("a unit")) && word {
+        d = d.hint("units are written right after the number, without spaces inside: `13875 N/mm`, `4000 N*mm/deg`; known units: mm, cm, m, N, kN, deg, rad, kg, s");
+    } else if words.iter().any(|w| w == "the end of the line") && word {
+        d = d.hint("each statement and each property goes on a line of its own");
+    } else if words.iter().any(|w| w == "`,`") && what == "`)`" {
+        d = d.hint("a vector has three components: `(x, y, z)`");
     }
     d
 }

@@ -1,0 +1,160 @@
+//! Wording of every checker diagnostic, written once. Codes: E01xx names,
+//! E02xx units and values, E03xx geometry, E04xx elements, E05xx loads,
+//! E06xx mobility; W for warnings.
+
+use crate::diagnostic::suggest::did_you_mean;
+use crate::diagnostic::Diagnostic;
+use crate::span::Span;
+use crate::units::Dim;
+
+pub fn unknown_name<'a>(
+    what: &str,
+    name: &str,
+    span: Span,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Diagnostic {
+    let d = Diagnostic::error("E0101", format!("unknown {what} `{name}`"))
+        .primary(span, format!("no {what} is called `{name}`"));
+    match did_you_mean(name, candidates) {
+        Some(h) => d.hint(h),
+        None => d,
+    }
+}
+
+pub fn duplicate(what: &str, name: &str, span: Span, first: Span) -> Diagnostic {
+    Diagnostic::error("E0102", format!("{what} `{name}` is declared twice"))
+        .primary(span, "declared again here")
+        .secondary(first, "first declared here")
+        .hint("names must be unique; rename one of them")
+}
+
+pub fn missing_ground(file_span: Span) -> Diagnostic {
+    Diagnostic::error("E0103", "the model has no ground part")
+        .primary(Span { end: file_span.start, ..file_span }, "no `ground` in this file")
+        .hint("declare the fixed part with `ground chassis { ... }` instead of `part`")
+}
+
+pub fn second_ground(span: Span, first: Span) -> Diagnostic {
+    Diagnostic::error("E0104", "the model has a second ground part")
+        .primary(span, "a second `ground`")
+        .secondary(first, "the ground is declared here")
+        .hint("a model has exactly one ground; declare the others with `part`")
+}
+
+pub fn unknown_property<'a>(
+    element: &str,
+    key: &str,
+    span: Span,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Diagnostic {
+    let list: Vec<&str> = candidates.into_iter().collect();
+    let d = Diagnostic::error("E0105", format!("a {element} has no property `{key}`"))
+        .primary(span, "unknown property")
+        .note(format!("{element} properties: {}", list.join(", ")));
+    match did_you_mean(key, list.iter().copied()) {
+        Some(h) => d.hint(h),
+        None => d,
+    }
+}
+
+pub fn duplicate_property(key: &str, span: Span, first: Span) -> Diagnostic {
+    Diagnostic::error("E0106", format!("property `{key}` is given twice"))
+        .primary(span, "given again here")
+        .secondary(first, "first given here")
+}
+
+pub fn missing_property(element: &str, name: &str, key: &str, span: Span, example: &str) -> Diagnostic {
+    Diagnostic::error("E0107", format!("{element} `{name}` has no `{key}`"))
+        .primary(span, format!("`{key}` missing here"))
+        .hint(format!("add a line such as `{example}`"))
+}
+
+pub fn marker_on_other_part(part: &str, marker: &str, span: Span, owners: &[String]) -> Diagnostic {
+    Diagnostic::error("E0108", format!("part `{part}` has no marker `{marker}`"))
+        .primary(span, format!("`{marker}` is not a marker of `{part}`"))
+        .hint(format!(
+            "`{marker}` is a marker of {}",
+            owners.iter().map(|o| format!("`{o}`")).collect::<Vec<_>>().join(" and ")
+        ))
+}
+
+pub fn wrong_dimension(expected: Dim, found: Dim, span: Span, example: &str) -> Diagnostic {
+    let d = Diagnostic::error(
+        "E0201",
+        format!("expected {}, found {}", expected.describe(), found.describe()),
+    )
+    .primary(span, format!("this is {}", found.describe()));
+    if found == Dim::NONE {
+        d.hint(format!("write the unit after the number, e.g. `{example}`"))
+    } else {
+        d.hint(format!("a value here is written like `{example}`"))
+    }
+}
+
+pub fn unknown_unit(text: &str, piece: &str, span: Span) -> Diagnostic {
+    let names = crate::units::UNIT_NAMES.iter().map(|(n, _)| *n);
+    let d = Diagnostic::error("E0202", format!("unknown unit `{piece}` in `{text}`"))
+        .primary(span, "not a unit");
+    match did_you_mean(piece, names) {
+        Some(h) => d.hint(h),
+        None => d.hint("units: mm, cm, m, N, kN, deg, rad, kg, s, combined as `N/mm`, `N*mm/deg`, `N/mm^3`"),
+    }
+}
+
+pub fn wrong_value_kind(expected: &str, found: &str, span: Span, example: &str) -> Diagnostic {
+    Diagnostic::error("E0203", format!("expected {expected}, found {found}"))
+        .primary(span, format!("this is {found}"))
+        .hint(format!("write it like `{example}`"))
+}
+
+pub fn bad_number(what: &str, span: Span, why: &str) -> Diagnostic {
+    Diagnostic::error("E0204", format!("{what} {why}")).primary(span, why.to_string())
+}
+
+pub fn negative_stiffness(element: &str, what: &str, span: Span) -> Diagnostic {
+    Diagnostic::error("E0205", format!("negative stiffness in {element}"))
+        .primary(span, format!("{what} is negative"))
+        .hint("a stiffness is zero or positive; flip the sign or check the unit")
+}
+
+pub fn table_too_short(span: Span, n: usize) -> Diagnostic {
+    Diagnostic::error("E0206", format!("a table needs at least 2 points, this one has {n}"))
+        .primary(span, "too few points")
+}
+
+pub fn table_not_increasing(span: Span, prev: Span) -> Diagnostic {
+    Diagnostic::error("E0207", "table abscissae must increase strictly")
+        .primary(span, "not larger than the previous point")
+        .secondary(prev, "previous point")
+}
+
+pub fn table_not_monotone(span: Span, prev: Span, direction: &str) -> Diagnostic {
+    Diagnostic::error("E0208", format!("the table's force must {direction} with its abscissa"))
+        .primary(span, "the force turns back here")
+        .secondary(prev, "previous point")
+        .hint("a non-monotone law has several equilibria for one load; check the signs")
+}
+
+pub fn degenerate_direction(what: &str, span: Span) -> Diagnostic {
+    Diagnostic::error("E0301", format!("degenerate orientation: {what}"))
+        .primary(span, what.to_string())
+        .hint("give a non-zero z direction and an x hint that is not parallel to it")
+}
+
+pub fn same_part(element: &str, name: &str, part: &str, i: Span, j: Span) -> Diagnostic {
+    Diagnostic::error("E0302", format!("both markers of {element} `{name}` are on part `{part}`"))
+        .primary(j, format!("J is on `{part}`"))
+        .secondary(i, format!("I is on `{part}` too"))
+        .hint("a connection joins two different parts")
+}
+
+pub fn unknown_module<'a>(name: &str, span: Span, modules: impl IntoIterator<Item = &'a str>) -> Diagnostic {
+    let list: Vec<&str> = modules.into_iter().collect();
+    let d = Diagnostic::error("E0109", format!("unknown module `{name}`"))
+        .primary(span, "not a stdlib module")
+        .note(format!("stdlib modules: {}", list.join(", ")));
+    match did_you_mean(name, list.iter().copied()) {
+        Some(h) => d.hint(h),
+        None => d,
+    }
+}

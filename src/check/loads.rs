@@ -1,0 +1,307 @@
+//! Load sets: tables (one row per case) and sweeps (load paths), with channels
+//! resolved to wheels and markers.
+
+use super::error;
+use super::Checker;
+use crate::diagnostic::Diagnostic;
+use crate::model::*;
+use crate::span::Span;
+use crate::syntax::ast::{ChannelLit, File, Ident, ItemKind, LoadsBody, LoadsDecl};
+use crate::units::Dim;
+
+/// More steps than this in one sweep is almost surely a unit mistake.
+const MAX_SWEEP_STEPS: usize = 100_000;
+
+impl Checker {
+    pub(super) fn loads(&mut self, ast: &File, imports: Vec<(Ident, Model)>) {
+        for (import, m) in imports {
+            for set in m.load_sets {
+                self.add_imported_set(&import, set);
+            }
+        }
+        for item in &ast.items {
+            if let ItemKind::Loads(l) = &item.kind {
+                self.load_set(l);
+            }
+        }
+    }
+
+    fn add_imported_set(&mut self, import: &Ident, mut set: LoadSet) {
+        if let Some(first) = self.model.load_set_named(&set.name) {
+            let span = self.span_of(ElementId::LoadSet(first));
+            self.problems.push(error::duplicate("load set", &set.name, import.span, span).note(format!("`{}` is also defined by module `{}`", set.name, import.name)));
+            return;
+        }
+        let n_sets = self.model.load_sets.len() as u32;
+        for ch in &mut set.channels {
+            if ch.target == LoadTarget::DefaultWheel && !self.library {
+                match self.default_wheel(import.span, &set.name) {
+                    Some(w) => ch.target = LoadTarget::Wheel(w),
+                    None => return,
+                }
+            }
+        }
+        let id = LoadSetId(n_sets);
+        self.model.origins.insert(ElementId::LoadSet(id), import.span);
+        self.model.imported_load_sets.push(id);
+        self.model.load_sets.push(set);
+    }
+
+    /// The model's only wheel, for channels written without a wheel name.
+    fn default_wheel(&mut self, span: Span, set: &str) -> Option<WheelId> {
+        match self.model.wheels.len() {
+            1 => Some(WheelId(0)),
+            0 => {
+                self.problems.push(
+                    Diagnostic::error("E0501", format!("load set `{set}` applies wheel loads, but the model has no wheel"))
+                        .primary(span, "wheel loads used here")
+                        .hint("declare `wheel NAME { centre PART.MARKER \n contact PART.MARKER }`, or load a marker: `part.marker.fz`"),
+                );
+                None
+            }
+            _ => {
+                let names: Vec<String> = self.model.wheels.iter().map(|w| format!("`{}.fz`", w.name)).collect();
+                self.problems.push(
+                    Diagnostic::error("E0502", format!("load set `{set}` does not say which wheel it loads"))
+                        .primary(span, "the model has several wheels")
+                        .hint(format!("name the wheel in the channel: {}", names.join(", "))),
+                );
+                None
+            }
+        }
+    }
+
+    fn channel(&mut self, c: &ChannelLit, set: &str) -> Option<Channel> {
+        let comp_name = c.path.last().map(String::as_str).unwrap_or("");
+        let Some(component) = Component::from_name(comp_name) else {
+            self.problems.push(
+                error::unknown_name("load component", comp_name, c.span, Component::ALL.iter().map(|c| c.name()))
+                    .note("components: fx, fy, fz (N), mx, my, mz (N*mm), global axes"),
+            );
+            return None;
+        };
+        let target = match c.path.len() {
+            1 if self.library => LoadTarget::DefaultWheel,
+            1 => LoadTarget::Wheel(self.default_wheel(c.span, set)?),
+            2 => {
+                let w = &c.path[0];
+                match self.model.wheels.iter().position(|x| &x.name == w) {
+                    Some(i) => LoadTarget::Wheel(WheelId(i as u32)),
+                    None => {
+                        let mut d = error::unknown_name("wheel", w, c.span, self.model.wheels.iter().map(|w| w.name.as_str()));
+                        if self.model.part_named(w).is_some() {
+                            d = d.note(format!("`{w}` is a part; to load a marker write `{w}.MARKER.{comp_name}`"));
+                        }
+                        self.problems.push(d);
+                        return None;
+                    }
+                }
+            }
+            _ => {
+                let r = crate::syntax::ast::MarkerRef {
+                    part: Ident { name: c.path[0].clone(), span: c.span },
+                    marker: Ident { name: c.path[1].clone(), span: c.span },
+                    span: c.span,
+                };
+                LoadTarget::Marker(self.marker_ref(&r)?)
+            }
+        };
+        Some(Channel { target, component })
+    }
+
+    fn component_dim(c: Component) -> Dim {
+        if c.is_torque() { Dim::TORQUE } else { Dim::FORCE }
+    }
+
+    fn load_set(&mut self, l: &LoadsDecl) {
+        let name = &l.name.name;
+        if let Some(first) = self.model.load_set_named(name) {
+            let span = self.span_of(ElementId::LoadSet(first));
+            self.problems.push(error::duplicate("load set", name, l.name.span, span));
+            return;
+        }
+        let set = match &l.body {
+            LoadsBody::Table { columns, rows } => {
+                let mut channels = Vec::new();
+                let mut factors = Vec::new();
+                let mut ok = true;
+                for (n, col) in columns.iter().enumerate() {
+                    if let Some(prev) = columns[..n].iter().find(|c| c.channel.path == col.channel.path) {
+                        self.problems.push(error::duplicate("column", &col.channel.text(), col.channel.span, prev.channel.span));
+                        ok = false;
+                        continue;
+                    }
+                    let ch = self.channel(&col.channel, name);
+                    let unit = self.unit(&col.unit);
+                    match (ch, unit) {
+                        (Some(ch), Some(u)) => {
+                            let want = Self::component_dim(ch.component);
+                            if u.dim != want {
+                                let ex = format!("{} {}", col.channel.text(), want.boundary_unit());
+                                self.problems.push(error::wrong_dimension(want, u.dim, col.unit.span, &ex));
+                                ok = false;
+                            }
+                            channels.push(ch);
+                            factors.push(u.factor);
+                        }
+                        _ => ok = false,
+                    }
+                }
+                let mut cases: Vec<LoadCase> = Vec::new();
+                for (r, row) in rows.iter().enumerate() {
+                    if let Some(prev) = rows[..r].iter().find(|x| x.name.name == row.name.name) {
+                        self.problems.push(error::duplicate("load case", &row.name.name, row.name.span, prev.name.span));
+                        ok = false;
+                    }
+                    if row.values.len() != columns.len() {
+                        self.problems.push(
+                            Diagnostic::error("E0503", format!("load case `{}` has {} values for {} columns", row.name.name, row.values.len(), columns.len()))
+                                .primary(row.span, "wrong number of values")
+                                .note(format!("columns: {}", columns.iter().map(|c| c.channel.text()).collect::<Vec<_>>().join(", "))),
+                        );
+                        ok = false;
+                        continue;
+                    }
+                    let values = row.values.iter().zip(&factors).map(|(v, f)| v.value * f).collect();
+                    cases.push(LoadCase { name: row.name.name.clone(), values });
+                }
+                if rows.is_empty() {
+                    self.problems.push(Diagnostic::error("E0504", format!("load set `{name}` has no cases")).primary(l.name.span, "empty"));
+                    ok = false;
+                }
+                if !ok {
+                    return;
+                }
+                LoadSet { name: name.clone(), channels, cases, form: LoadForm::Table }
+            }
+            LoadsBody::Sweep { lines } => match self.sweep(name, l.name.span, lines) {
+                Some(s) => s,
+                None => return,
+            },
+        };
+        let id = LoadSetId(self.model.load_sets.len() as u32);
+        self.model.origins.insert(ElementId::LoadSet(id), l.name.span);
+        self.model.load_sets.push(set);
+    }
+
+    fn sweep(&mut self, name: &str, name_span: Span, lines: &[crate::syntax::ast::SweepLine]) -> Option<LoadSet> {
+        let mut channels = Vec::new();
+        let mut constants = Vec::new();
+        let mut swept: Option<(usize, Vec<f64>, f64, Span)> = None;
+        let mut ok = true;
+        for (n, line) in lines.iter().enumerate() {
+            if let Some(prev) = lines[..n].iter().find(|x| x.channel.path == line.channel.path) {
+                self.problems.push(error::duplicate("channel", &line.channel.text(), line.channel.span, prev.channel.span));
+                ok = false;
+                continue;
+            }
+            let Some(ch) = self.channel(&line.channel, name) else {
+                ok = false;
+                continue;
+            };
+            let dim = Self::component_dim(ch.component);
+            let ex = format!("{} 4500 {}", line.channel.text(), dim.boundary_unit());
+            let pts: Vec<Option<Val>> = line.waypoints.iter().map(|e| self.scalar(e, dim, &ex)).collect();
+            let Some(pts) = pts.into_iter().collect::<Option<Vec<Val>>>() else {
+                ok = false;
+                continue;
+            };
+            let pts: Vec<f64> = pts.iter().map(|v| v.value).collect();
+            match (&line.step, pts.len()) {
+                (None, 1) => {
+                    channels.push(ch);
+                    constants.push((channels.len() - 1, pts[0]));
+                }
+                (Some(step), n) if n >= 2 => {
+                    let Some(s) = self.scalar(step, dim, &ex) else {
+                        ok = false;
+                        continue;
+                    };
+                    if s.value <= 0.0 {
+                        self.problems.push(error::bad_number("the step", step.span, "must be positive"));
+                        ok = false;
+                        continue;
+                    }
+                    if let Some((_, _, _, first)) = &swept {
+                        self.problems.push(
+                            Diagnostic::error("E0505", format!("sweep `{name}` sweeps two channels"))
+                                .primary(line.span, "a second swept channel")
+                                .secondary(*first, "the swept channel")
+                                .hint("a sweep moves one channel; write a load table for combined paths"),
+                        );
+                        ok = false;
+                        continue;
+                    }
+                    channels.push(ch);
+                    swept = Some((channels.len() - 1, pts, s.value, line.span));
+                }
+                (Some(_), _) => {
+                    self.problems.push(
+                        Diagnostic::error("E0506", "a swept channel needs at least two waypoints")
+                            .primary(line.span, "only one value before `by`")
+                            .hint("write `fz 1000 N -> 8000 N by 250 N`"),
+                    );
+                    ok = false;
+                }
+                (None, _) => {
+                    self.problems.push(
+                        Diagnostic::error("E0507", "waypoints without a step")
+                            .primary(line.span, "how large are the steps?")
+                            .hint("end the line with `by 250 N`"),
+                    );
+                    ok = false;
+                }
+            }
+        }
+        if !ok {
+            return None;
+        }
+        let Some((idx, waypoints, step, span)) = swept else {
+            self.problems.push(
+                Diagnostic::error("E0508", format!("sweep `{name}` sweeps no channel"))
+                    .primary(name_span, "nothing varies")
+                    .hint("add a line such as `fz 1000 N -> 8000 N by 250 N`"),
+            );
+            return None;
+        };
+        let mut values = vec![waypoints[0]];
+        for w in waypoints.windows(2) {
+            let n = ((w[1] - w[0]).abs() / step).round();
+            if ((w[1] - w[0]).abs() - n * step).abs() > 1e-9 * step.max(w[1].abs()) || n < 1.0 {
+                self.problems.push(
+                    Diagnostic::error("E0509", "a waypoint is not a whole number of steps from the previous one")
+                        .primary(span, "the steps do not land on every waypoint")
+                        .note(format!("from {} to {} by {}", w[0], w[1], step)),
+                );
+                return None;
+            }
+            if values.len() + n as usize > MAX_SWEEP_STEPS {
+                self.problems.push(bad_sweep(span));
+                return None;
+            }
+            let dir = (w[1] - w[0]).signum();
+            for k in 1..=(n as usize) {
+                values.push(w[0] + dir * step * k as f64);
+            }
+        }
+        let cases = values
+            .iter()
+            .enumerate()
+            .map(|(k, v)| {
+                let mut vals = vec![0.0; channels.len()];
+                for (c, x) in &constants {
+                    vals[*c] = *x;
+                }
+                vals[idx] = *v;
+                LoadCase { name: format!("{name}_{:03}", k + 1), values: vals }
+            })
+            .collect();
+        Some(LoadSet { name: name.to_string(), channels, cases, form: LoadForm::Sweep { swept: idx, waypoints, step } })
+    }
+}
+
+fn bad_sweep(span: Span) -> Diagnostic {
+    Diagnostic::error("E0510", format!("the sweep has more than {MAX_SWEEP_STEPS} steps"))
+        .primary(span, "too many steps")
+        .hint("check the step and its unit")
+}

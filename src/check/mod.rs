@@ -1,0 +1,213 @@
+//! Syntax tree → checked [`Model`]: resolves names, checks units and converts
+//! them to internal units, builds frames, checks every element and the mobility
+//! of the mechanism. Collects every problem instead of stopping at the first.
+
+mod elements;
+mod error;
+mod eval;
+mod geometry;
+mod loads;
+mod parts;
+mod props;
+
+use crate::diagnostic::{Diagnostic, Problems};
+use crate::model::{ElementId, LoadSetId, Model, Param, ParamId};
+use crate::source::SourceMap;
+use crate::span::{FileId, Span};
+use crate::syntax::ast::{File, Ident, ItemKind};
+
+/// The result of checking a file: the model when there is no error, and every
+/// diagnostic found (warnings do not prevent a model).
+pub struct Checked {
+    pub model: Option<Model>,
+    pub problems: Problems,
+}
+
+/// Parses and checks a file of the source map; imported stdlib modules are added
+/// to the map so their diagnostics can be rendered.
+pub fn check_file(sources: &mut SourceMap, file: FileId) -> Checked {
+    check_depth(sources, file, 0)
+}
+
+/// Parses and checks a text; convenient for tests and tools.
+pub fn check_str(name: &str, text: &str) -> (SourceMap, Checked) {
+    let mut sources = SourceMap::new();
+    let id = sources.add(name, text);
+    let checked = check_file(&mut sources, id);
+    (sources, checked)
+}
+
+fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize) -> Checked {
+    let text = sources.text(file).to_string();
+    let ast = match crate::syntax::parse(file, &text) {
+        Ok(ast) => ast,
+        Err(d) => {
+            let mut problems = Problems::default();
+            problems.push(d);
+            return Checked { model: None, problems };
+        }
+    };
+    let mut problems = Problems::default();
+    let mut imports = Vec::new();
+    for item in &ast.items {
+        if let ItemKind::Import(name) = &item.kind {
+            let Some(src) = crate::stdlib::module(&name.name) else {
+                problems.push(error::unknown_module(
+                    &name.name,
+                    name.span,
+                    crate::stdlib::MODULES.iter().map(|(n, _)| *n),
+                ));
+                continue;
+            };
+            if depth > 8 {
+                problems.push(
+                    Diagnostic::error("E0110", "imports nest too deeply (a cycle?)")
+                        .primary(name.span, "imported here"),
+                );
+                continue;
+            }
+            let fname = crate::stdlib::file_name(&name.name);
+            let fid = sources.find(&fname).unwrap_or_else(|| sources.add(fname, src));
+            let sub = check_depth(sources, fid, depth + 1);
+            problems.extend(sub.problems);
+            if let Some(m) = sub.model {
+                imports.push((name.clone(), m));
+            }
+        }
+    }
+    let stem = std::path::Path::new(sources.name(file))
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "model".into());
+    let mut checker = Checker {
+        problems,
+        model: Model {
+            name: stem,
+            ..Model::default()
+        },
+        library: !ast.items.iter().any(|i| matches!(i.kind, ItemKind::Part(_))),
+        file_span: ast.span,
+    };
+    checker.run(&ast, imports);
+    let Checker { problems, model, .. } = checker;
+    let model = (!problems.has_errors()).then_some(model);
+    Checked { model, problems }
+}
+
+pub(crate) struct Checker {
+    pub(crate) problems: Problems,
+    pub(crate) model: Model,
+    /// A file without parts (a stdlib module of load sets): no ground needed,
+    /// wheel channels stay aimed at the using model's wheel.
+    pub(crate) library: bool,
+    pub(crate) file_span: Span,
+}
+
+impl Checker {
+    fn run(&mut self, ast: &File, imports: Vec<(Ident, Model)>) {
+        let mut default = None;
+        for item in &ast.items {
+            match &item.kind {
+                ItemKind::Model(name) => self.model.name = name.name.clone(),
+                ItemKind::DefaultLoads(name) => default = Some(name.clone()),
+                ItemKind::Param(p) => self.param(p),
+                _ => {}
+            }
+        }
+        self.model.imports = imports
+            .iter()
+            .map(|(n, _)| crate::model::Import { module: n.name.clone() })
+            .collect();
+        self.parts(ast);
+        self.elements(ast);
+        self.loads(ast, imports);
+        self.default_loads(default);
+        if !self.library && !self.problems.has_errors() {
+            self.geometry();
+        }
+    }
+
+    fn param(&mut self, p: &crate::syntax::ast::ParamDecl) {
+        if let Some(first) = self.model.param_named(&p.name.name) {
+            let span = self.span_of(ElementId::Param(first));
+            self.problems.push(error::duplicate("parameter", &p.name.name, p.name.span, span));
+            return;
+        }
+        let Some(q) = self.eval(&p.value) else { return };
+        let unknown = p.unknown.as_ref().map(|u| {
+            let mut bounds = crate::model::Bounds::default();
+            if let Some((lo, hi)) = &u.bounds {
+                let example = format!("{} {}", 1, q.dim.boundary_unit());
+                bounds.lower = lo.as_ref().and_then(|e| self.scalar(e, q.dim, &example)).map(|v| v.value);
+                bounds.upper = hi.as_ref().and_then(|e| self.scalar(e, q.dim, &example)).map(|v| v.value);
+                if let (Some(l), Some(h)) = (bounds.lower, bounds.upper) {
+                    if l >= h || q.value < l || q.value > h {
+                        self.problems.push(
+                            Diagnostic::error(
+                                "E0211",
+                                format!("the bounds of `{}` do not contain its value", p.name.name),
+                            )
+                            .primary(u.span, "lower bound, value and upper bound must increase")
+                            .secondary(p.value.span, "the value"),
+                        );
+                    }
+                }
+            }
+            bounds
+        });
+        let id = ElementId::Param(ParamId(self.model.params.len() as u32));
+        self.model.origins.insert(id, p.name.span);
+        self.model.params.push(Param {
+            name: p.name.name.clone(),
+            value: q.value,
+            dim: q.dim,
+            unknown,
+        });
+    }
+
+    /// Resolves a parameter reference, reporting an unknown name.
+    pub(crate) fn param_id(&mut self, name: &Ident) -> Option<ParamId> {
+        match self.model.param_named(&name.name) {
+            Some(id) => Some(id),
+            None => {
+                let d = error::unknown_name(
+                    "parameter",
+                    &name.name,
+                    name.span,
+                    self.model.params.iter().map(|p| p.name.as_str()),
+                )
+                .note("parameters are declared with `param NAME = VALUE` before they are used");
+                self.problems.push(d);
+                None
+            }
+        }
+    }
+
+    fn default_loads(&mut self, default: Option<Ident>) {
+        self.model.default_load_set = match default {
+            Some(name) => match self.model.load_set_named(&name.name) {
+                Some(id) => Some(id),
+                None => {
+                    let d = error::unknown_name(
+                        "load set",
+                        &name.name,
+                        name.span,
+                        self.model.load_sets.iter().map(|s| s.name.as_str()),
+                    );
+                    self.problems.push(d);
+                    None
+                }
+            },
+            // The first set written in the file, else the first imported one.
+            None => (0..self.model.load_sets.len())
+                .map(|i| LoadSetId(i as u32))
+                .find(|id| !self.model.imported_load_sets.contains(id))
+                .or_else(|| (!self.model.load_sets.is_empty()).then_some(LoadSetId(0))),
+        };
+    }
+
+    pub(crate) fn span_of(&self, id: ElementId) -> Span {
+        self.model.origins.get(id).unwrap_or(self.file_span)
+    }
+}
+

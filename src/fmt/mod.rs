@@ -1,0 +1,199 @@
+//! Canonical layout of axle source, keeping every comment. `format_source` is a
+//! fixed point: formatting formatted text changes nothing.
+
+mod print;
+
+use crate::diagnostic::Diagnostic;
+use crate::span::{FileId, Span};
+use crate::syntax::ast::*;
+use crate::syntax::trivia::{comments, Comment};
+
+const INDENT: &str = "    ";
+
+/// Parses and formats a file.
+pub fn format_source(file: FileId, text: &str) -> Result<String, Diagnostic> {
+    let ast = crate::syntax::parse(file, text)?;
+    Ok(format_file(&ast, text))
+}
+
+/// Formats a parsed file; `text` is the source it was parsed from.
+pub fn format_file(ast: &File, text: &str) -> String {
+    let mut f = Formatter { text, comments: comments(text), next: 0, out: String::new(), last_end: 0, force_blank: false };
+    for item in &ast.items {
+        f.item(item);
+    }
+    f.flush_leading(text.len(), "", true);
+    let mut out = f.out.trim_end().to_string();
+    out.push('\n');
+    out
+}
+
+struct Formatter<'a> {
+    text: &'a str,
+    comments: Vec<Comment>,
+    next: usize,
+    out: String,
+    /// Byte offset just after the last thing printed (code or comment).
+    last_end: usize,
+    /// A blank line must precede the next item (after a block).
+    force_blank: bool,
+}
+
+impl Formatter<'_> {
+    fn blank_in_source(&self, from: usize, to: usize) -> bool {
+        from < to && self.text[from..to].matches('\n').count() >= 2
+    }
+
+    fn blank_line(&mut self) {
+        if !self.out.is_empty() && !self.out.ends_with("\n\n") && !self.out.ends_with("{\n") {
+            self.out.push('\n');
+        }
+    }
+
+    /// Prints the own-line comments before `start`, keeping single blank lines.
+    fn flush_leading(&mut self, start: usize, indent: &str, keep_blank: bool) {
+        while let Some(c) = self.comments.get(self.next) {
+            if c.offset >= start {
+                break;
+            }
+            let c = c.clone();
+            self.next += 1;
+            if keep_blank && (self.force_blank || self.blank_in_source(self.last_end, c.offset)) {
+                self.blank_line();
+                self.force_blank = false;
+            }
+            self.out.push_str(indent);
+            self.out.push_str(&c.text);
+            self.out.push('\n');
+            self.last_end = c.offset + c.text.len();
+        }
+        if keep_blank && (self.force_blank || self.blank_in_source(self.last_end, start)) {
+            self.blank_line();
+        }
+        self.force_blank = false;
+    }
+
+    /// Appends the comment that ends the line of `end`, if any, then a newline.
+    fn end_line(&mut self, end: usize) {
+        let line = crate::syntax::trivia::line_of(self.text, end.saturating_sub(1).max(0));
+        if let Some(c) = self.comments.get(self.next) {
+            if c.trailing && c.line == line && c.offset >= end {
+                self.out.push(' ');
+                self.out.push_str(&c.text);
+                self.last_end = c.offset + c.text.len();
+                self.next += 1;
+                self.out.push('\n');
+                return;
+            }
+        }
+        self.last_end = end;
+        self.out.push('\n');
+    }
+
+    /// Whether a comment lies inside a span (then the span is printed as written).
+    fn has_inner_comment(&self, span: Span) -> bool {
+        self.comments[self.next..]
+            .iter()
+            .take_while(|c| c.offset < span.end as usize)
+            .any(|c| c.offset > span.start as usize)
+    }
+
+    /// One statement on its own line(s): canonical text, or the source text when
+    /// a comment sits inside it.
+    fn statement(&mut self, span: Span, indent: &str, keep_blank: bool, canonical: impl FnOnce() -> String) {
+        self.flush_leading(span.start as usize, indent, keep_blank);
+        self.out.push_str(indent);
+        if self.has_inner_comment(span) {
+            let src = &self.text[span.range()];
+            self.out.push_str(src.trim_end());
+            // Comments inside were printed with the text.
+            while self.comments.get(self.next).is_some_and(|c| c.offset < span.end as usize) {
+                self.next += 1;
+            }
+        } else {
+            self.out.push_str(&canonical());
+        }
+        self.end_line(span.end as usize);
+    }
+
+    fn open_block(&mut self, span: Span, head: String) {
+        self.flush_leading(span.start as usize, "", true);
+        self.out.push_str(&head);
+        self.out.push_str(" {");
+        // The `{` is the first `{` after the head; a comment may follow it.
+        let brace = self.text[span.range()].find('{').map_or(span.start as usize, |i| span.start as usize + i + 1);
+        self.end_line(brace);
+    }
+
+    fn close_block(&mut self, span: Span) {
+        let close = (span.end as usize).saturating_sub(1);
+        self.flush_leading(close, INDENT, false);
+        self.out.push('}');
+        self.end_line(span.end as usize);
+        self.force_blank = true;
+    }
+
+    fn item(&mut self, item: &Item) {
+        match &item.kind {
+            ItemKind::Model(n) => self.statement(item.span, "", true, || format!("model {}", n.name)),
+            ItemKind::Import(n) => self.statement(item.span, "", true, || format!("import {}", n.name)),
+            ItemKind::DefaultLoads(n) => self.statement(item.span, "", true, || format!("default loads {}", n.name)),
+            ItemKind::Param(p) => self.statement(item.span, "", true, || print::param(p)),
+            ItemKind::Part(p) => {
+                let kw = if p.ground { "ground" } else { "part" };
+                self.open_block(item.span, format!("{kw} {}", p.name.name));
+                for (n, pi) in p.items.iter().enumerate() {
+                    let keep = n > 0;
+                    match pi {
+                        PartItem::Marker(m) => self.statement(m.span, INDENT, keep, || print::marker(m)),
+                        PartItem::Landmark(l) => self.statement(l.span, INDENT, keep, || {
+                            format!("landmark {} at {}", l.name.name, print::vector(&l.at))
+                        }),
+                    }
+                }
+                self.close_block(item.span);
+            }
+            ItemKind::Element(e) => {
+                let mut head = format!("{} {}", e.keyword.keyword(), e.name.name);
+                if let Some(k) = &e.kind {
+                    head += &format!(" {}", k.name);
+                }
+                self.open_block(item.span, head);
+                for (n, p) in e.props.iter().enumerate() {
+                    self.statement(p.span, INDENT, n > 0, || format!("{} {}", p.key.name, print::value(&p.value, INDENT)));
+                }
+                self.close_block(item.span);
+            }
+            ItemKind::Loads(l) => self.loads(item.span, l),
+        }
+    }
+
+    fn loads(&mut self, span: Span, l: &LoadsDecl) {
+        match &l.body {
+            LoadsBody::Table { columns, rows } => {
+                let cols: Vec<String> = columns.iter().map(|c| format!("{} {}", c.channel.text(), c.unit.text)).collect();
+                let head_span = Span { end: columns.last().map_or(span.end, |c| c.span.end), ..span };
+                let head = format!("loads {} table ({})", l.name.name, cols.join(", "));
+                if self.has_inner_comment(head_span) {
+                    // Keep a commented header as written, up to the brace.
+                    let src = &self.text[head_span.start as usize..];
+                    let upto = src.find('{').unwrap_or(src.len());
+                    self.open_block(span, src[..upto].trim_end().to_string());
+                } else {
+                    self.open_block(span, head);
+                }
+                let lines = print::table_rows(rows, columns.len());
+                for (n, (row, line)) in rows.iter().zip(lines).enumerate() {
+                    self.statement(row.span, INDENT, n > 0, || line);
+                }
+            }
+            LoadsBody::Sweep { lines } => {
+                self.open_block(span, format!("loads {} sweep", l.name.name));
+                for (n, line) in lines.iter().enumerate() {
+                    self.statement(line.span, INDENT, n > 0, || print::sweep_line(line));
+                }
+            }
+        }
+        self.close_block(span);
+    }
+}

@@ -1,0 +1,17 @@
+//! axle source shipped with the compiler (`stdlib/`), embedded so that `import`
+//! needs no file system.
+
+/// `(module name, source text)` for every stdlib module.
+pub const MODULES: &[(&str, &str)] = &[(
+    "mcpherson_loads",
+    include_str!("../stdlib/mcpherson_loads.axle"),
+)];
+
+pub fn module(name: &str) -> Option<&'static str> {
+    MODULES.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
+}
+
+/// The name a module's file is shown under in diagnostics.
+pub fn file_name(module: &str) -> String {
+    format!("stdlib/{module}.axle")
+}
