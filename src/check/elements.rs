@@ -207,6 +207,9 @@ impl Checker {
             }
         }
         let missing: Vec<&str> = (0..3).filter(|&a| laws[a].is_none()).map(|a| ["x", "y", "z"][a]).collect();
+        if !missing.is_empty() && props.had_unknown {
+            return None;
+        }
         if ok && !missing.is_empty() {
             self.problems.push(
                 Diagnostic::error("E0405", format!("bushing `{}` has no {base} along {}", props.decl.name.name, missing.join(", ")))

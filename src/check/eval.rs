@@ -247,6 +247,18 @@ impl Checker {
             Some(u) => Some(self.unit(u)?),
             None => None,
         };
+        // A missing or wrong trailing unit is one mistake, not three.
+        if v.unit.is_none() && expected != Dim::NONE && v.comps.iter().all(|c| !Self::has_units(c)) {
+            self.problems.push(error::wrong_dimension(expected, Dim::NONE, v.span, example));
+            return None;
+        }
+        // (trailing unit) trailing unit is one mistake, not three.
+        if let (Some(u), Some(lit)) = (default, &v.unit) {
+            if u.dim != expected && v.comps.iter().all(|c| !Self::has_units(c)) {
+                self.problems.push(error::wrong_dimension(expected, u.dim, lit.span, example));
+                return None;
+            }
+        }
         let comps: Vec<Option<Val>> = v
             .comps
             .iter()

@@ -55,7 +55,7 @@ impl Checker {
                 self.problems.push(
                     Diagnostic::error("E0501", format!("load set `{set}` applies wheel loads, but the model has no wheel"))
                         .primary(span, "wheel loads used here")
-                        .hint("declare `wheel NAME { centre PART.MARKER \n contact PART.MARKER }`, or load a marker: `part.marker.fz`"),
+                        .hint("declare a wheel (`wheel NAME { ... }` with `centre` and `contact` markers), or load a marker: `part.marker.fz`"),
                 );
                 None
             }

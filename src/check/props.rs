@@ -12,6 +12,8 @@ use std::collections::BTreeMap;
 pub(super) struct Props<'a> {
     pub element: &'static str,
     pub decl: &'a ElementDecl,
+    /// An unknown key was reported: "missing" errors would only repeat it.
+    pub had_unknown: bool,
     map: BTreeMap<&'a str, &'a Property>,
 }
 
@@ -38,8 +40,10 @@ fn kind_of(v: &Value) -> &'static str {
 impl Checker {
     pub(super) fn props<'a>(&mut self, element: &'static str, decl: &'a ElementDecl, allowed: &[&str]) -> Props<'a> {
         let mut map: BTreeMap<&str, &Property> = BTreeMap::new();
+        let mut had_unknown = false;
         for p in &decl.props {
             if !allowed.contains(&p.key.name.as_str()) {
+                had_unknown = true;
                 self.problems.push(error::unknown_property(element, &p.key.name, p.key.span, allowed.iter().copied()));
                 continue;
             }
@@ -49,12 +53,15 @@ impl Checker {
             }
             map.insert(&p.key.name, p);
         }
-        Props { element, decl, map }
+        Props { element, decl, had_unknown, map }
     }
 
     /// A required marker reference.
     pub(super) fn prop_marker(&mut self, props: &Props, key: &str) -> Option<MarkerId> {
         let Some(p) = props.get(key) else {
+            if props.had_unknown {
+                return None;
+            }
             self.problems.push(error::missing_property(
                 props.element,
                 &props.decl.name.name,

@@ -1,7 +1,10 @@
 //! Canonical layout of axle source, keeping every comment. `format_source` is a
 //! fixed point: formatting formatted text changes nothing.
 
+mod model;
 mod print;
+
+pub use model::print_model;
 
 use crate::diagnostic::Diagnostic;
 use crate::span::{FileId, Span};

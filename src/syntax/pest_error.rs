@@ -137,7 +137,8 @@ pub fn to_diagnostic(file: FileId, text: &str, e: &Error<Rule>) -> Diagnostic {
         words.retain(|w| !w.starts_with("a value such as"));
     }
     // A unit is the most specific thing a number can still take; say it first.
-    words.sort_by_key(|w| (!w.starts_with("a unit"), w.starts_with("an operator")));
+    // Then literal tokens (`=`, `,`, `}`): the most concrete advice.
+    words.sort_by_key(|w| (!w.starts_with("a unit"), !w.starts_with('`'), w.starts_with("an operator")));
     let what = describe_found(text, range);
     let expected = join_or(&words);
     let span = Span::new(file, range.0, range.1);
@@ -148,6 +149,8 @@ pub fn to_diagnostic(file: FileId, text: &str, e: &Error<Rule>) -> Diagnostic {
         d = d.hint("units are written right after the number, without spaces inside: `13875 N/mm`, `4000 N*mm/deg`; known units: mm, cm, m, N, kN, deg, rad, kg, s");
     } else if words.iter().any(|w| w == "the end of the line") && word {
         d = d.hint("each statement and each property goes on a line of its own");
+    } else if (what == "`/`" || what == "`*`") && before.ends_with(|c: char| c.is_alphabetic()) {
+        d = d.hint("write compound units without spaces: `N/mm`, `N*mm/deg`");
     } else if words.iter().any(|w| w == "`,`") && what == "`)`" {
         d = d.hint("a vector has three components: `(x, y, z)`");
     }

@@ -1,0 +1,290 @@
+//! A checked [`Model`] printed back as canonical axle source, so that models
+//! extended by identification or diagnosis can be written out. Values are in
+//! boundary units; fields bound to a parameter print the parameter's name.
+
+use crate::geom::Vec3;
+use crate::model::*;
+use crate::units::{to_boundary, Dim};
+use std::fmt::Write;
+
+/// A number in boundary units, shortest form that survives unit conversion
+/// noise (12 significant digits).
+pub fn number(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    let s = format!("{:.*e}", 11, v);
+    let parsed: f64 = s.parse().unwrap_or(v);
+    let plain = format!("{parsed}");
+    if plain.len() <= 18 {
+        plain
+    } else {
+        format!("{parsed:e}")
+    }
+}
+
+fn val(m: &Model, v: &Val, dim: Dim) -> String {
+    match v.param {
+        Some(p) => m.params[p.index()].name.clone(),
+        None => number(to_boundary(v.value, dim)),
+    }
+}
+
+/// `(a, b, c) unit`, or with units per component when a parameter is involved.
+fn vec3(m: &Model, v: &Val3, dim: Dim) -> String {
+    let unit = dim.boundary_unit();
+    if v.iter().any(|x| x.param.is_some()) {
+        let parts: Vec<String> = v
+            .iter()
+            .map(|x| match x.param {
+                Some(_) => val(m, x, dim),
+                None if unit.is_empty() => val(m, x, dim),
+                None => format!("{} {unit}", val(m, x, dim)),
+            })
+            .collect();
+        return format!("({})", parts.join(", "));
+    }
+    let body = v.iter().map(|x| val(m, x, dim)).collect::<Vec<_>>().join(", ");
+    if unit.is_empty() { format!("({body})") } else { format!("({body}) {unit}") }
+}
+
+fn plain3(v: &Vec3) -> String {
+    format!("({}, {}, {})", number(v.x), number(v.y), number(v.z))
+}
+
+fn scalar(m: &Model, v: &Val, dim: Dim) -> String {
+    match v.param {
+        Some(_) => val(m, v, dim),
+        None => format!("{} {}", val(m, v, dim), dim.boundary_unit()),
+    }
+}
+
+fn table(t: &Table, x: Dim, y: Dim) -> String {
+    let pts: Vec<String> = t
+        .points
+        .iter()
+        .map(|(a, b)| format!("({}, {})", number(to_boundary(*a, x)), number(to_boundary(*b, y))))
+        .collect();
+    format!("table ({}, {}) [{}]", x.boundary_unit(), y.boundary_unit(), pts.join(", "))
+}
+
+pub fn print_model(m: &Model) -> String {
+    let mut o = String::new();
+    let _ = writeln!(o, "model {}", m.name);
+    if !m.imports.is_empty() || m.default_load_set.is_some() {
+        o.push('\n');
+    }
+    for i in &m.imports {
+        let _ = writeln!(o, "import {}", i.module);
+    }
+    if let Some(d) = m.default_load_set {
+        let _ = writeln!(o, "default loads {}", m.load_sets[d.index()].name);
+    }
+    if !m.params.is_empty() {
+        o.push('\n');
+    }
+    for p in &m.params {
+        let _ = write!(o, "param {} = {}", p.name, number(to_boundary(p.value, p.dim)));
+        let unit = p.dim.boundary_unit();
+        if !unit.is_empty() {
+            let _ = write!(o, " {unit}");
+        }
+        if let Some(b) = &p.unknown {
+            o.push_str(" unknown");
+            if b.lower.is_some() || b.upper.is_some() {
+                let side = |x: Option<f64>| match x {
+                    Some(v) if unit.is_empty() => number(to_boundary(v, p.dim)),
+                    Some(v) => format!("{} {unit}", number(to_boundary(v, p.dim))),
+                    None => "_".into(),
+                };
+                let _ = write!(o, " [{}, {}]", side(b.lower), side(b.upper));
+            }
+        }
+        o.push('\n');
+    }
+    for (pi, part) in m.parts.iter().enumerate() {
+        let kw = if part.ground { "ground" } else { "part" };
+        let _ = writeln!(o, "\n{kw} {} {{", part.name);
+        for mk in m.markers.iter().filter(|x| x.part.index() == pi) {
+            let _ = write!(o, "    marker {} at {}", mk.name, vec3(m, &mk.position, Dim::LENGTH));
+            match &mk.orientation {
+                Orientation::Identity => {}
+                Orientation::Euler(a) => {
+                    let _ = write!(o, " euler {}", vec3(m, a, Dim::ANGLE));
+                }
+                Orientation::Directions { z, x } => {
+                    let _ = write!(o, " z {}", plain3(z));
+                    if let Some(x) = x {
+                        let _ = write!(o, " x {}", plain3(x));
+                    }
+                }
+            }
+            o.push('\n');
+        }
+        for l in m.landmarks.iter().filter(|x| x.part.index() == pi) {
+            let _ = writeln!(o, "    landmark {} at {}", l.name, vec3(m, &l.position, Dim::LENGTH));
+        }
+        o.push_str("}\n");
+    }
+    for j in &m.joints {
+        let _ = writeln!(o, "\njoint {} {} {{", j.name, j.kind.keyword());
+        let _ = writeln!(o, "    i {}\n    j {}\n}}", m.marker_path(j.i), m.marker_path(j.j));
+    }
+    for b in &m.bushings {
+        bushing(&mut o, m, b);
+    }
+    for s in &m.springs {
+        let _ = writeln!(o, "\nspring {} {{", s.name);
+        let _ = writeln!(o, "    i {}\n    j {}", m.marker_path(s.i), m.marker_path(s.j));
+        match &s.law {
+            SpringLaw::Linear { k, free_length, preload } => {
+                let _ = writeln!(o, "    k {}", scalar(m, k, Dim::STIFFNESS));
+                let _ = writeln!(o, "    free_length {}", scalar(m, free_length, Dim::LENGTH));
+                if preload.value != 0.0 || preload.param.is_some() {
+                    let _ = writeln!(o, "    preload {}", scalar(m, preload, Dim::FORCE));
+                }
+            }
+            SpringLaw::Table(t) => {
+                let _ = writeln!(o, "    law {}", table(t, Dim::LENGTH, Dim::FORCE));
+            }
+        }
+        o.push_str("}\n");
+    }
+    for s in &m.stops {
+        let kind = match s.kind {
+            StopKind::Compression => "compression",
+            StopKind::Rebound => "rebound",
+        };
+        let _ = writeln!(o, "\nstop {} {kind} {{", s.name);
+        let _ = writeln!(o, "    i {}\n    j {}", m.marker_path(s.i), m.marker_path(s.j));
+        let _ = writeln!(o, "    contact_length {}", scalar(m, &s.contact_length, Dim::LENGTH));
+        match &s.law {
+            StopLaw::Polynomial(c) if c.len() == 1 => {
+                let _ = writeln!(o, "    k {}", scalar(m, &c[0], Dim::STIFFNESS));
+            }
+            StopLaw::Polynomial(c) => {
+                let items: Vec<String> = c.iter().enumerate().map(|(n, v)| scalar(m, v, Dim::new(-(n as i8) - 1, 1, 0))).collect();
+                let _ = writeln!(o, "    poly [{}]", items.join(", "));
+            }
+            StopLaw::Table(t) => {
+                let _ = writeln!(o, "    law {}", table(t, Dim::LENGTH, Dim::FORCE));
+            }
+        }
+        o.push_str("}\n");
+    }
+    for w in &m.wheels {
+        let _ = writeln!(o, "\nwheel {} {{\n    centre {}\n    contact {}\n}}", w.name, m.marker_path(w.centre), m.marker_path(w.contact));
+    }
+    for (si, set) in m.load_sets.iter().enumerate() {
+        if !m.imported_load_sets.contains(&LoadSetId(si as u32)) {
+            load_set(&mut o, m, set);
+        }
+    }
+    o
+}
+
+fn bushing(o: &mut String, m: &Model, b: &Bushing) {
+    let _ = writeln!(o, "\nbushing {} {{", b.name);
+    let _ = writeln!(o, "    i {}\n    j {}", m.marker_path(b.i), m.marker_path(b.j));
+    for (laws, base, dim, x, y) in [
+        (&b.translational, "k", Dim::STIFFNESS, Dim::LENGTH, Dim::FORCE),
+        (&b.rotational, "kt", Dim::ROT_STIFFNESS, Dim::ANGLE, Dim::TORQUE),
+    ] {
+        let lin: Vec<Option<Val>> = laws
+            .iter()
+            .map(|l| match l {
+                AxisLaw::Linear { k, .. } => Some(*k),
+                AxisLaw::Table(_) => None,
+            })
+            .collect();
+        match (&lin[..], b.symmetry) {
+            ([Some(r), Some(r2), Some(a)], Symmetry::Axisymmetric) if r == r2 => {
+                let _ = writeln!(o, "    {base}_radial {}", scalar(m, r, dim));
+                let _ = writeln!(o, "    {base}_axial {}", scalar(m, a, dim));
+            }
+            ([Some(a), Some(b2), Some(c)], _) => {
+                let _ = writeln!(o, "    {base} {}", vec3(m, &[*a, *b2, *c], dim));
+            }
+            _ => {
+                for (n, l) in laws.iter().enumerate() {
+                    let axis = ["x", "y", "z"][n];
+                    match l {
+                        AxisLaw::Linear { k, .. } => {
+                            let _ = writeln!(o, "    {base}_{axis} {}", scalar(m, k, dim));
+                        }
+                        AxisLaw::Table(t) => {
+                            let _ = writeln!(o, "    {base}_{axis} {}", table(t, x, y));
+                        }
+                    }
+                }
+            }
+        }
+        let cubic: Val3 = std::array::from_fn(|n| match &laws[n] {
+            AxisLaw::Linear { k3, .. } => *k3,
+            AxisLaw::Table(_) => Val::ZERO,
+        });
+        if cubic.iter().any(|v| v.value != 0.0 || v.param.is_some()) {
+            let cdim = dim.div(x.powi(2));
+            let _ = writeln!(o, "    {base}3 {}", vec3(m, &cubic, cdim));
+        }
+    }
+    for (key, v, dim) in [
+        ("offset", &b.offset, Dim::LENGTH),
+        ("angle_offset", &b.angle_offset, Dim::ANGLE),
+        ("preload", &b.preload, Dim::FORCE),
+        ("torque_preload", &b.torque_preload, Dim::TORQUE),
+    ] {
+        if v.iter().any(|x| x.value != 0.0 || x.param.is_some()) {
+            let _ = writeln!(o, "    {key} {}", vec3(m, v, dim));
+        }
+    }
+    o.push_str("}\n");
+}
+
+fn channel_name(m: &Model, c: &Channel) -> String {
+    let comp = c.component.name();
+    match c.target {
+        LoadTarget::DefaultWheel => comp.to_string(),
+        LoadTarget::Wheel(w) => format!("{}.{comp}", m.wheels[w.index()].name),
+        LoadTarget::Marker(mk) => format!("{}.{comp}", m.marker_path(mk)),
+    }
+}
+
+fn load_set(o: &mut String, m: &Model, set: &LoadSet) {
+    let dim = |c: &Channel| if c.component.is_torque() { Dim::TORQUE } else { Dim::FORCE };
+    match &set.form {
+        LoadForm::Table => {
+            let cols: Vec<String> = set.channels.iter().map(|c| format!("{} {}", channel_name(m, c), dim(c).boundary_unit())).collect();
+            let _ = writeln!(o, "\nloads {} table ({}) {{", set.name, cols.join(", "));
+            let name_w = set.cases.iter().map(|c| c.name.len()).max().unwrap_or(0);
+            let cells: Vec<Vec<String>> = set
+                .cases
+                .iter()
+                .map(|c| c.values.iter().zip(&set.channels).map(|(v, ch)| number(to_boundary(*v, dim(ch)))).collect())
+                .collect();
+            let widths: Vec<usize> = (0..set.channels.len()).map(|k| cells.iter().map(|r| r[k].len()).max().unwrap_or(0)).collect();
+            for (case, row) in set.cases.iter().zip(&cells) {
+                let mut line = format!("    {:<name_w$}", case.name);
+                for (cell, w) in row.iter().zip(&widths) {
+                    let _ = write!(line, "  {cell:>w$}");
+                }
+                let _ = writeln!(o, "{}", line.trim_end());
+            }
+        }
+        LoadForm::Sweep { swept, waypoints, step } => {
+            let _ = writeln!(o, "\nloads {} sweep {{", set.name);
+            for (k, ch) in set.channels.iter().enumerate() {
+                let d = dim(ch);
+                let u = d.boundary_unit();
+                if k == *swept {
+                    let pts: Vec<String> = waypoints.iter().map(|w| format!("{} {u}", number(to_boundary(*w, d)))).collect();
+                    let _ = writeln!(o, "    {} {} by {} {u}", channel_name(m, ch), pts.join(" -> "), number(to_boundary(*step, d)));
+                } else {
+                    let v = set.cases.first().map_or(0.0, |c| c.values[k]);
+                    let _ = writeln!(o, "    {} {} {u}", channel_name(m, ch), number(to_boundary(v, d)));
+                }
+            }
+        }
+    }
+    o.push_str("}\n");
+}
