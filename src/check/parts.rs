@@ -4,7 +4,7 @@ use super::error;
 use super::Checker;
 use crate::geom::{euler_zxz, frame_from_z_x, FrameError, Mat3};
 use crate::model::{
-    ElementId, Landmark, LandmarkId, Marker, MarkerId, Orientation, Part, PartId, values,
+    Val, ElementId, Landmark, LandmarkId, Marker, MarkerId, Orientation, Part, PartId, values,
 };
 use crate::syntax::ast::{File, ItemKind, MarkerRef, Orient, PartItem};
 use crate::units::Dim;
@@ -61,21 +61,37 @@ impl Checker {
             self.problems.push(error::duplicate("marker", &m.name.name, m.name.span, span));
             return;
         }
-        let Some(position) = self.vector(&m.at, Dim::LENGTH, "(294.7, 365.1, 246.1) mm") else { return };
-        let (orientation, rotation) = match &m.orient {
+        let position = self.vector(&m.at, Dim::LENGTH, "(294.7, 365.1, 246.1) mm");
+        let frame = self.orientation(m);
+        // A marker whose values failed still exists for later references (the
+        // error already prevents a model), so they are not reported as unknown.
+        let (position, (orientation, rotation)) = match (position, frame) {
+            (Some(p), Some(f)) => (p, f),
+            (p, f) => (p.unwrap_or([Val::ZERO; 3]), f.unwrap_or((Orientation::Identity, Mat3::identity()))),
+        };
+        let id = MarkerId(self.model.markers.len() as u32);
+        self.model.origins.insert(ElementId::Marker(id), m.name.span);
+        self.model.markers.push(Marker {
+            name: m.name.name.clone(),
+            part,
+            position,
+            orientation,
+            rotation,
+        });
+    }
+
+    fn orientation(&mut self, m: &crate::syntax::ast::MarkerDecl) -> Option<(Orientation, Mat3)> {
+        Some(match &m.orient {
             None => (Orientation::Identity, Mat3::identity()),
             Some(Orient::Euler(v)) => {
-                let Some(a) = self.vector(v, Dim::ANGLE, "(309.5, 90.22, 181.7) deg") else { return };
+                let a = self.vector(v, Dim::ANGLE, "(309.5, 90.22, 181.7) deg")?;
                 let r = euler_zxz(a[0].value, a[1].value, a[2].value);
                 (Orientation::Euler(a), r)
             }
             Some(Orient::Directions { z, x }) => {
-                let Some(zv) = self.vector(z, Dim::NONE, "(0, 0, 1)") else { return };
+                let zv = self.vector(z, Dim::NONE, "(0, 0, 1)")?;
                 let xv = match x {
-                    Some(x) => match self.vector(x, Dim::NONE, "(1, 0, 0)") {
-                        Some(v) => Some(values(&v)),
-                        None => return,
-                    },
+                    Some(x) => Some(values(&self.vector(x, Dim::NONE, "(1, 0, 0)")?)),
                     None => None,
                 };
                 let zv = values(&zv);
@@ -88,20 +104,11 @@ impl Checker {
                             FrameError::ParallelX => ("the x direction is parallel to z", x.as_ref().map_or(z.span, |x| x.span)),
                         };
                         self.problems.push(error::degenerate_direction(what, span));
-                        return;
+                        return None;
                     }
                 }
             }
-        };
-        let id = MarkerId(self.model.markers.len() as u32);
-        self.model.origins.insert(ElementId::Marker(id), m.name.span);
-        self.model.markers.push(Marker {
-            name: m.name.name.clone(),
-            part,
-            position,
-            orientation,
-            rotation,
-        });
+        })
     }
 
     /// Resolves `part.marker`, reporting an unknown part or marker.

@@ -103,7 +103,26 @@ impl Formatter<'_> {
 
     /// One statement on its own line(s): canonical text, or the source text when
     /// a comment sits inside it.
+    /// A span without the blanks and comments pest may have swallowed at its end.
+    fn code_span(&self, span: Span) -> Span {
+        let mut end = span.end as usize;
+        loop {
+            let src = &self.text[span.start as usize..end];
+            let trimmed = src.trim_end();
+            let line_start = trimmed.rfind('\n').map_or(0, |i| i + 1);
+            match trimmed[line_start..].find("//") {
+                Some(i) => end = span.start as usize + line_start + i,
+                None => {
+                    end = span.start as usize + trimmed.len();
+                    break;
+                }
+            }
+        }
+        Span { end: end as u32, ..span }
+    }
+
     fn statement(&mut self, span: Span, indent: &str, keep_blank: bool, canonical: impl FnOnce() -> String) {
+        let span = self.code_span(span);
         self.flush_leading(span.start as usize, indent, keep_blank);
         self.out.push_str(indent);
         if self.has_inner_comment(span) {
