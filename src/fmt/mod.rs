@@ -139,6 +139,8 @@ impl Formatter<'_> {
     }
 
     fn open_block(&mut self, span: Span, head: String) {
+        // A block always stands apart from what precedes it (and its leading comments with it).
+        self.force_blank = !self.out.is_empty();
         self.flush_leading(span.start as usize, "", true);
         self.out.push_str(&head);
         self.out.push_str(" {");

@@ -1,0 +1,80 @@
+//! The built `axle` binary: exit codes, streams and JSON shapes of interfaces.md.
+
+use std::process::Command;
+
+fn axle(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_axle"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the binary runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn check_passes_clean_examples_with_exit_0() {
+    let (code, stdout, stderr) = axle(&["check", "examples/mcpherson.axle", "examples/four_bar.axle"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.is_empty() && stderr.is_empty());
+}
+
+#[test]
+fn check_reports_every_error_with_exit_1() {
+    let (code, _, stderr) = axle(&["check", "tests/fail/units/angle_in_position.axle", "tests/fail/names/unknown_part.axle"]);
+    assert_eq!(code, 1);
+    assert!(stderr.contains("tests/fail/units/angle_in_position.axle:8:31"), "{stderr}");
+    assert!(stderr.contains("tests/fail/names/unknown_part.axle:13:"), "{stderr}");
+    assert!(!stderr.contains("panicked"));
+}
+
+#[test]
+fn check_json_lists_diagnostics_with_positions() {
+    let (code, stdout, _) = axle(&["check", "--format", "json", "tests/fail/names/unknown_part.axle"]);
+    assert_eq!(code, 1);
+    let v: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON document");
+    let d = &v["diagnostics"][0];
+    assert_eq!(d["severity"], "error");
+    assert_eq!(d["code"], "E0101");
+    assert_eq!(d["line"], 13);
+    assert_eq!(d["column"], 7);
+    assert_eq!(d["file"], "tests/fail/names/unknown_part.axle");
+}
+
+#[test]
+fn warnings_do_not_fail_check() {
+    let (code, _, stderr) = axle(&["check", "tests/fail/geometry/ambiguous_landmarks.axle"]);
+    assert_eq!(code, 0);
+    assert!(stderr.contains("warning[W0306]"));
+}
+
+#[test]
+fn missing_file_and_bad_usage_exit_2() {
+    let (code, _, stderr) = axle(&["check", "no/such/file.axle"]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("cannot read"));
+    let (code, _, _) = axle(&["frobnicate"]);
+    assert_eq!(code, 2);
+}
+
+#[test]
+fn fmt_check_accepts_examples_and_rejects_messy_files() {
+    let (code, _, stderr) = axle(&["fmt", "--check", "examples/mcpherson.axle", "stdlib/mcpherson_loads.axle"]);
+    assert_eq!(code, 0, "{stderr}");
+    let dir = std::env::temp_dir().join(format!("axle-fmt-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let file = dir.join("messy.axle");
+    std::fs::write(&file, "model   m\nground g {\nmarker o at (0,0,0) mm\n}\n").expect("write");
+    let f = file.to_string_lossy().into_owned();
+    let (code, _, stderr) = axle(&["fmt", "--check", &f]);
+    assert_eq!(code, 1, "{stderr}");
+    let (code, _, _) = axle(&["fmt", &f]);
+    assert_eq!(code, 0);
+    assert_eq!(std::fs::read_to_string(&file).expect("read"), "model m\n\nground g {\n    marker o at (0, 0, 0) mm\n}\n");
+    let (code, _, _) = axle(&["fmt", "--check", &f]);
+    assert_eq!(code, 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
