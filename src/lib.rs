@@ -13,4 +13,5 @@ pub mod geom;
 pub mod model;
 pub mod source;
 pub mod span;
+pub mod statics;
 pub mod units;
