@@ -10,6 +10,7 @@
 //! Only `main.rs` and `cli/` touch the filesystem.
 
 pub mod geom;
+pub mod kc;
 pub mod model;
 pub mod source;
 pub mod span;

@@ -45,6 +45,8 @@ pub struct State {
     pub(crate) poses: Vec<(Vec3, Mat3)>,
     /// Loads this state is in equilibrium with (empty at design).
     pub(crate) loads: Vec<PointLoad>,
+    /// Multipliers of the independent constraint equations (warm start of the next step).
+    pub(crate) lambda: Vec<f64>,
 }
 
 impl State {
@@ -53,6 +55,7 @@ impl State {
         State {
             poses: vec![(Vec3::zeros(), Mat3::identity()); model.parts.len()],
             loads: Vec::new(),
+            lambda: Vec::new(),
         }
     }
 
