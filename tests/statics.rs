@@ -364,6 +364,11 @@ fn slider_crank_redundancy_is_detected_and_named() {
         .collect();
     // The planar loop: the rotations about z of crank, rod and slider are
     // over-determined by the three z-axis joints.
+    eprintln!(
+        "slider-crank: redundant {} of `{}`, with {names:?}",
+        r.equation,
+        model.joints[r.joint.index()].name
+    );
     assert!(names.len() >= 2, "{names:?}");
     assert!(names.contains(&model.joints[r.joint.index()].name.as_str()));
     assert!(
@@ -768,5 +773,88 @@ fn wheel_centre_compliance_predicts_a_small_load_increment() {
             "{k}: {} vs {pred}",
             moved[k]
         );
+    }
+}
+
+/// A planar loop of four revolutes is over-constrained in 3-D: 20 equations,
+/// one mobility, so three equations are redundant, each naming loop joints.
+#[test]
+fn planar_four_bar_of_revolutes_has_three_redundant_equations() {
+    let mut b = Builder::new("planar");
+    let g = b.part("ground", true);
+    let l1 = b.part("l1", false);
+    let c = b.part("c", false);
+    let l2 = b.part("l2", false);
+    let ax = frame_from_z_x(Vec3::y(), Some(Vec3::x())).expect("frame");
+    let pts = [
+        (g, l1, [0.0, 0.0, 0.0]),
+        (l1, c, [0.0, 0.0, 450.0]),
+        (c, l2, [250.0, 0.0, 450.0]),
+        (l2, g, [250.0, 0.0, 0.0]),
+    ];
+    for (k, (pi, pj, x)) in pts.into_iter().enumerate() {
+        let i = b.marker(pi, "i", x, ax);
+        let j = b.marker(pj, "j", x, ax);
+        b.joint(&format!("r{k}"), JointKind::Revolute, i, j);
+    }
+    let mob = statics::mobility(&b.m);
+    assert_eq!(
+        (mob.equations, mob.rank, mob.dof, mob.grubler),
+        (20, 17, 1, -2)
+    );
+    assert_eq!(mob.redundant.len(), 3, "{:?}", mob.redundant);
+    for r in &mob.redundant {
+        assert!(r.with.len() >= 2, "{r:?}");
+    }
+    // With a torsion spring-free loop the remaining mobility is unrestrained.
+    assert_eq!(mob.unrestrained.len(), 1);
+}
+
+#[test]
+fn bushings_beyond_fifteen_degrees_are_named() {
+    let m = mcpherson(1000.0);
+    let problem = Problem::new(&m.model).expect("problem");
+    let eq = statics::solve(
+        &problem,
+        &wheel(&m, 0.0, 0.0, 1500.0),
+        &State::design(&m.model),
+    )
+    .expect("solve");
+    let w = statics::report::angle_warnings(&m.model, &eq.state);
+    // Reference case c1 of table 5.1: A's az is -18.67°, every other angle within 15°.
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert_eq!((w[0].name.as_str(), w[0].angle), ("A", "az"));
+    assert!((w[0].value_deg + 18.6697).abs() < 1e-3, "{w:?}");
+}
+
+/// With the thesis' kt_z(F) = 0 the strut spin is held only by the 2.5°
+/// misalignment: the solver either converges or names what failed, never NaN.
+#[test]
+fn mcpherson_without_top_mount_torsion_converges_or_names_the_cause() {
+    let m = mcpherson(0.0);
+    let problem = Problem::new(&m.model).expect("problem");
+    let mut state = State::design(&m.model);
+    for fz in [1500.0, 3000.0, 4500.0, 6000.0, 7500.0] {
+        match statics::solve(&problem, &wheel(&m, 0.0, 0.0, fz), &state) {
+            Ok(eq) => {
+                let rep = case_report(&m.model, "c", 1, &eq);
+                assert!(
+                    rep.parts
+                        .values()
+                        .all(|p| p.position.iter().all(|v| v.is_finite()))
+                );
+                assert!(eq.residual < 1e-9);
+                eprintln!(
+                    "kt_z = 0, fz {fz}: converged in {} iterations, {} substeps",
+                    eq.iterations, eq.substeps
+                );
+                state = eq.state;
+            }
+            Err(e) => {
+                eprintln!("kt_z = 0, fz {fz}: {}", e.message(&m.model));
+                assert!(!e.elements.is_empty(), "{e:?}");
+                break;
+            }
+        }
     }
 }

@@ -49,7 +49,6 @@ pub struct Mobility {
     pub rank: usize,
     /// Degrees of freedom: coordinates minus rank.
     pub dof: usize,
-    #[serde(skip)]
     pub redundant: Vec<RedundantEquation>,
     /// Motions with no stiffness at all (errors).
     pub unrestrained: Vec<Motion>,

@@ -30,7 +30,7 @@ use crate::geom::Vec3;
 use crate::model::{ElementId, JointId, LoadSetId, Model, PointLoad};
 use constraint::{Equation, evaluate};
 use coords::Layout;
-use newton::{Failure, assemble, errors, newton};
+use newton::{Failure, Homotopy, assemble, errors, newton};
 use redundancy::{independence, scaled_jacobian};
 
 /// A model compiled for the statics backend: coordinate layout, constraint
@@ -198,12 +198,21 @@ pub fn solve(
     let force = force_scale(problem, loads, start);
     let from = start.loads.clone();
     let mut state = start.clone();
+    let (r0, phi0) = match assemble(problem, start, &from) {
+        Ok(sys) => (sys.r, sys.phi),
+        Err(e) => return Err(e),
+    };
     let (mut s, mut ds, mut steps, mut iterations) = (0.0f64, 1.0f64, 0usize, 0usize);
     while s < 1.0 {
         let target = if s + ds >= 1.0 - 1e-12 { 1.0 } else { s + ds };
         let l = interpolate(&from, loads, target);
         let mut trial = state.clone();
-        match newton(problem, &l, &mut trial, force) {
+        let h = Homotopy {
+            r0: r0.clone(),
+            phi0: phi0.clone(),
+            remaining: 1.0 - target,
+        };
+        match newton(problem, &l, &mut trial, force, &h) {
             Ok(it) => {
                 iterations += it;
                 steps += 1;
@@ -291,6 +300,19 @@ fn not_converged(p: &Problem, st: &State, loads: &[PointLoad], force: f64) -> St
     };
     let (ef, ec) = errors(p, &sys, force);
     let mut elements = Vec::new();
+    // A nearly singular Newton matrix is the usual cause: name its motion first.
+    if let Some((ratio, motion)) = newton::softest_motion(p, &newton::kkt(&sys)) {
+        if ratio < 1e-6 {
+            return StaticsError::new(
+                StaticsErrorKind::NotConverged,
+                vec![ElementId::Part(motion.part)],
+                format!(
+                    "{detail}: the {} is nearly unrestrained (stiffness ratio {ratio:.1e}) (residual {ef:.2e} of the force scale, {ec:.2e} of the length)",
+                    motion.words
+                ),
+            );
+        }
+    }
     if ec * force > ef * p.length && !sys.phi.is_empty() {
         let k = sys.phi.iamax();
         elements.push(ElementId::Joint(p.equations[p.kept[k]].joint));

@@ -99,6 +99,28 @@ fn merit(p: &Problem, sys: &System, force: f64) -> f64 {
         }
 }
 
+/// The part of the start state's residual not yet released: `(1 - s)` times the
+/// residual (forces and constraints) the start state had under its own loads.
+/// Subtracting it makes the start an exact equilibrium at `s = 0`, so sub-steps
+/// also release internal preloads (a spring compressed at design), not only the
+/// external loads; at `s = 1` it vanishes and the equilibrium is exact.
+pub(crate) struct Homotopy {
+    pub r0: DVector<f64>,
+    pub phi0: DVector<f64>,
+    pub remaining: f64,
+}
+
+impl Homotopy {
+    fn apply(&self, mut sys: System) -> System {
+        if self.remaining > 0.0 && self.r0.len() == sys.r.len() && self.phi0.len() == sys.phi.len()
+        {
+            sys.r -= &self.r0 * self.remaining;
+            sys.phi -= &self.phi0 * self.remaining;
+        }
+        sys
+    }
+}
+
 pub(crate) enum Failure {
     /// No point in sub-stepping: the model itself is at fault.
     Fatal(StaticsError),
@@ -112,6 +134,7 @@ pub(crate) fn newton(
     loads: &[PointLoad],
     st: &mut State,
     force: f64,
+    homotopy: &Homotopy,
 ) -> Result<usize, Failure> {
     let n = p.layout.n();
     let m = p.kept.len();
@@ -119,7 +142,7 @@ pub(crate) fn newton(
         st.lambda = vec![0.0; m];
     }
     let fatal = Failure::Fatal;
-    let mut sys = assemble(p, st, loads).map_err(fatal)?;
+    let mut sys = homotopy.apply(assemble(p, st, loads).map_err(fatal)?);
     for it in 0..MAX_ITERATIONS {
         let (ef, ec) = errors(p, &sys, force);
         if ef < FORCE_TOL && ec < CONSTRAINT_TOL {
@@ -158,7 +181,7 @@ pub(crate) fn newton(
             for k in 0..m {
                 trial.lambda[k] += alpha * x[n + k] / sys.row_scale[k];
             }
-            if let Ok(ts) = assemble(p, &trial, loads) {
+            if let Ok(ts) = assemble(p, &trial, loads).map(|t| homotopy.apply(t)) {
                 let m1 = merit(p, &ts, force);
                 if m1.is_finite() && m1 < (1.0 - 1e-4 * alpha) * m0 {
                     accepted = Some((trial, ts));
@@ -216,19 +239,10 @@ pub(crate) fn solve_dense(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<
 /// If the scaled Newton matrix is numerically singular, the unrestrained motion
 /// as an error naming the part that moves most.
 pub(crate) fn singular_direction(p: &Problem, a: &DMatrix<f64>) -> Option<StaticsError> {
-    let nn = a.nrows();
-    let n = p.layout.n();
-    let fa = faer::MatRef::from_column_major_slice(a.as_slice(), nn, nn);
-    let svd = fa.svd().ok()?;
-    let s = svd.S().column_vector();
-    let smax = s[0];
-    let smin = s[nn - 1];
-    if smin > 1e-12 * smax {
+    let (ratio, motion) = softest_motion(p, a)?;
+    if ratio > 1e-12 {
         return None;
     }
-    let v = svd.V();
-    let dq = DVector::from_fn(n, |i, _| v[(i, nn - 1)] * col_scale(i, p.length));
-    let motion = describe_motion(&p.model, &p.layout, &dq, p.length);
     Some(StaticsError::new(
         StaticsErrorKind::Unrestrained,
         vec![ElementId::Part(motion.part)],
@@ -236,5 +250,29 @@ pub(crate) fn singular_direction(p: &Problem, a: &DMatrix<f64>) -> Option<Static
             "the equilibrium equations are singular: nothing restrains the {}",
             motion.words
         ),
+    ))
+}
+
+/// The softest motion of the scaled Newton matrix: its smallest singular value
+/// relative to the largest, and the motion of its singular vector.
+pub(crate) fn softest_motion(
+    p: &Problem,
+    a: &DMatrix<f64>,
+) -> Option<(f64, super::mobility::Motion)> {
+    let nn = a.nrows();
+    let n = p.layout.n();
+    let fa = faer::MatRef::from_column_major_slice(a.as_slice(), nn, nn);
+    let svd = fa.svd().ok()?;
+    let s = svd.S().column_vector();
+    let smax = s[0];
+    let smin = s[nn - 1];
+    let v = svd.V();
+    let dq = DVector::from_fn(n, |i, _| v[(i, nn - 1)] * col_scale(i, p.length));
+    if !(smax > 0.0) || dq.iter().all(|x| *x == 0.0) {
+        return None;
+    }
+    Some((
+        smin / smax,
+        describe_motion(&p.model, &p.layout, &dq, p.length),
     ))
 }

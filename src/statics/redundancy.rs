@@ -9,12 +9,16 @@ use super::constraint::{Equation, evaluate, is_length};
 use super::coords::{Layout, State};
 use crate::model::{JointId, Model, Primitive};
 use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
 
 /// A constraint equation implied by earlier ones (in declaration order).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RedundantEquation {
     pub joint: JointId,
+    #[serde(skip)]
     pub primitive: Primitive,
+    /// The primitive in words: `d·x`, `z_I·x_J`.
+    pub equation: String,
     /// The joints whose equations combine to this one (including its own joint
     /// when it takes part).
     pub with: Vec<JointId>,
@@ -105,6 +109,7 @@ pub fn independence(eqs: &[Equation], jac: &DMatrix<f64>) -> Independence {
             redundant.push(RedundantEquation {
                 joint: eqs[r].joint,
                 primitive: eqs[r].primitive,
+                equation: eqs[r].primitive.describe(),
                 with: involved(eqs, jac, &kept, r),
             });
         }
