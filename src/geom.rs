@@ -153,7 +153,12 @@ mod tests {
 
     #[test]
     fn euler_singular_cases_reconstruct_the_matrix() {
-        for &(p, t, f) in &[(30.0, 0.0, 20.0), (30.0, 180.0, 20.0), (0.0, 0.0, 0.0), (-90.0, 180.0, 0.0)] {
+        for &(p, t, f) in &[
+            (30.0, 0.0, 20.0),
+            (30.0, 180.0, 20.0),
+            (0.0, 0.0, 0.0),
+            (-90.0, 180.0, 0.0),
+        ] {
             let r = euler_zxz(p * DEG, t * DEG, f * DEG);
             let (a, b, c) = matrix_to_zxz(&r);
             assert!(close_m(&euler_zxz(a, b, c), &r, 1e-12), "({p},{t},{f})");
@@ -169,18 +174,29 @@ mod tests {
         // methods.md §1.4: in the ADAMS/Car frame, B = (129.5, 90.22, 181.7) has x = (0.636, -0.771, -0.030).
         let r = euler_zxz(129.5 * DEG, 90.22 * DEG, 181.7 * DEG);
         let x = r.column(0);
-        assert!((x[0] - 0.636).abs() < 2e-3 && (x[1] + 0.771).abs() < 2e-3 && (x[2] + 0.030).abs() < 2e-3);
+        assert!(
+            (x[0] - 0.636).abs() < 2e-3
+                && (x[1] + 0.771).abs() < 2e-3
+                && (x[2] + 0.030).abs() < 2e-3
+        );
     }
 
     #[test]
     fn frame_from_directions() {
-        let r = frame_from_z_x(Vec3::new(0.0, 0.0, 2.0), Some(Vec3::new(1.0, 1.0, 0.5))).expect("frame");
+        let r = frame_from_z_x(Vec3::new(0.0, 0.0, 2.0), Some(Vec3::new(1.0, 1.0, 0.5)))
+            .expect("frame");
         assert!((r.column(2) - Vec3::z()).norm() < 1e-15);
         assert!((r.column(0) - Vec3::new(1.0, 1.0, 0.0).normalize()).norm() < 1e-15);
         assert!((r.determinant() - 1.0).abs() < 1e-14);
         assert_eq!(frame_from_z_x(Vec3::zeros(), None), Err(FrameError::ZeroZ));
-        assert_eq!(frame_from_z_x(Vec3::z(), Some(Vec3::z() * 3.0)), Err(FrameError::ParallelX));
-        assert_eq!(frame_from_z_x(Vec3::z(), Some(Vec3::zeros())), Err(FrameError::ZeroX));
+        assert_eq!(
+            frame_from_z_x(Vec3::z(), Some(Vec3::z() * 3.0)),
+            Err(FrameError::ParallelX)
+        );
+        assert_eq!(
+            frame_from_z_x(Vec3::z(), Some(Vec3::zeros())),
+            Err(FrameError::ZeroX)
+        );
         let r = frame_from_z_x(Vec3::new(0.3, -0.2, 0.9), None).expect("frame");
         assert!((r.transpose() * r - Mat3::identity()).abs().max() < 1e-14);
     }

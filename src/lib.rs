@@ -10,9 +10,11 @@
 //! Only `main.rs` and `cli/` touch the filesystem.
 
 pub mod geom;
+pub mod kc;
 pub mod model;
 pub mod source;
 pub mod span;
+pub mod statics;
 pub mod units;
 pub mod diagnostic;
 pub mod syntax;

@@ -75,11 +75,7 @@ impl Dim {
         let mut num = Vec::new();
         let mut den = Vec::new();
         let mut put = |name: &str, e: i8| {
-            let (list, e) = if e > 0 {
-                (&mut num, e)
-            } else {
-                (&mut den, -e)
-            };
+            let (list, e) = if e > 0 { (&mut num, e) } else { (&mut den, -e) };
             if e == 1 {
                 list.push(name.to_string());
             } else if e > 1 {
@@ -180,18 +176,75 @@ impl Unit {
 
 /// The base unit names the language knows, with their meaning.
 pub const UNIT_NAMES: &[(&str, Unit)] = &[
-    ("mm", Unit { dim: Dim::LENGTH, factor: 1.0 }),
-    ("cm", Unit { dim: Dim::LENGTH, factor: 10.0 }),
-    ("m", Unit { dim: Dim::LENGTH, factor: 1000.0 }),
-    ("N", Unit { dim: Dim::FORCE, factor: 1.0 }),
-    ("kN", Unit { dim: Dim::FORCE, factor: 1000.0 }),
-    ("deg", Unit { dim: Dim::ANGLE, factor: DEG }),
-    ("rad", Unit { dim: Dim::ANGLE, factor: 1.0 }),
-    ("kg", Unit { dim: Dim::MASS, factor: 1.0 }),
-    ("s", Unit {
-        dim: Dim { length: 0, force: 0, angle: 0, mass: 0, time: 1 },
-        factor: 1.0,
-    }),
+    (
+        "mm",
+        Unit {
+            dim: Dim::LENGTH,
+            factor: 1.0,
+        },
+    ),
+    (
+        "cm",
+        Unit {
+            dim: Dim::LENGTH,
+            factor: 10.0,
+        },
+    ),
+    (
+        "m",
+        Unit {
+            dim: Dim::LENGTH,
+            factor: 1000.0,
+        },
+    ),
+    (
+        "N",
+        Unit {
+            dim: Dim::FORCE,
+            factor: 1.0,
+        },
+    ),
+    (
+        "kN",
+        Unit {
+            dim: Dim::FORCE,
+            factor: 1000.0,
+        },
+    ),
+    (
+        "deg",
+        Unit {
+            dim: Dim::ANGLE,
+            factor: DEG,
+        },
+    ),
+    (
+        "rad",
+        Unit {
+            dim: Dim::ANGLE,
+            factor: 1.0,
+        },
+    ),
+    (
+        "kg",
+        Unit {
+            dim: Dim::MASS,
+            factor: 1.0,
+        },
+    ),
+    (
+        "s",
+        Unit {
+            dim: Dim {
+                length: 0,
+                force: 0,
+                angle: 0,
+                mass: 0,
+                time: 1,
+            },
+            factor: 1.0,
+        },
+    ),
 ];
 
 /// Looks up a base unit name (`mm`, `N`, `deg`, ...).
@@ -272,7 +325,10 @@ mod tests {
     fn lengths_angles_forces_convert() {
         assert!(close(parse_unit("m").expect("m").factor, 1000.0));
         assert!(close(parse_unit("cm").expect("cm").factor, 10.0));
-        assert!(close(parse_unit("deg").expect("deg").factor, std::f64::consts::PI / 180.0));
+        assert!(close(
+            parse_unit("deg").expect("deg").factor,
+            std::f64::consts::PI / 180.0
+        ));
         assert!(close(parse_unit("kN").expect("kN").factor, 1000.0));
         assert!(close(parse_unit("N*m").expect("N*m").factor, 1000.0));
         assert_eq!(parse_unit("N*m").expect("N*m").dim, Dim::TORQUE);

@@ -39,7 +39,11 @@ pub struct Bushing {
 #[derive(Debug, Clone, PartialEq)]
 pub enum SpringLaw {
     /// Push-apart force `k (L0 - l) + F0` (N), with `k` in N/mm, `L0` in mm.
-    Linear { k: Val, free_length: Val, preload: Val },
+    Linear {
+        k: Val,
+        free_length: Val,
+        preload: Val,
+    },
     /// Push-apart force (N) as a table of length (mm), monotone decreasing.
     Table(Table),
 }

@@ -13,7 +13,9 @@ macro_rules! ids {
     )*};
 }
 
-ids!(PartId, MarkerId, LandmarkId, JointId, BushingId, SpringId, StopId, WheelId, ParamId, LoadSetId);
+ids!(
+    PartId, MarkerId, LandmarkId, JointId, BushingId, SpringId, StopId, WheelId, ParamId, LoadSetId
+);
 
 /// Any element of a model, for diagnostics and the origin side table.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]

@@ -35,7 +35,10 @@ pub enum Orientation {
     /// ZXZ Euler angles (psi, theta, phi), rad.
     Euler(Val3),
     /// A z direction and an optional x hint (made orthogonal to z).
-    Directions { z: Vec3, x: Option<Vec3> },
+    Directions {
+        z: Vec3,
+        x: Option<Vec3>,
+    },
 }
 
 /// A frame fixed to a part: origin and axes in global coordinates at design.

@@ -31,7 +31,10 @@ pub struct Val {
 }
 
 impl Val {
-    pub const ZERO: Val = Val { value: 0.0, param: None };
+    pub const ZERO: Val = Val {
+        value: 0.0,
+        param: None,
+    };
 
     pub fn lit(value: f64) -> Val {
         Val { value, param: None }

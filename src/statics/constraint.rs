@@ -1,0 +1,146 @@
+//! Joint primitives (`conventions.md`, "Joints") as scalar equations with
+//! analytic gradients.
+//!
+//! The gradient of each equation with respect to the increments of parts I and J
+//! is the generalised force of a "unit reaction" wrench; multiplied by λ it is the
+//! joint's reaction, and its tangent is the λ-weighted second derivative the
+//! Newton matrix needs. So one [`Wrench`] gives both.
+
+use super::coords::{Layout, State, marker_kin};
+use super::wrench::{Wrench, blocks, d_axis_j, d_point_i};
+use crate::geom::{Mat3, Vec3, skew};
+use crate::model::{JointId, Model, Primitive};
+
+/// One scalar constraint equation of a joint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Equation {
+    pub joint: JointId,
+    pub primitive: Primitive,
+}
+
+/// All equations of the model, joint by joint in declaration order.
+pub fn equations(model: &Model) -> Vec<Equation> {
+    let mut out = Vec::new();
+    for (k, j) in model.joints.iter().enumerate() {
+        for &p in j.kind.equations() {
+            out.push(Equation {
+                joint: JointId(k as u32),
+                primitive: p,
+            });
+        }
+    }
+    out
+}
+
+/// Whether the equation measures a length (mm) rather than a cosine.
+pub fn is_length(p: Primitive) -> bool {
+    !matches!(p, Primitive::Perpendicular(..))
+}
+
+/// The value of the equation and its unit reaction wrench (whose generalised
+/// force is the gradient row).
+pub fn evaluate(model: &Model, layout: &Layout, state: &State, eq: &Equation) -> (f64, Wrench) {
+    let joint = &model.joints[eq.joint.index()];
+    let mi = marker_kin(model, layout, state, joint.i);
+    let mj = marker_kin(model, layout, state, joint.j);
+    let d = mi.p - mj.p;
+    match eq.primitive {
+        Primitive::Coincident(k) => {
+            let e = Vec3::ith(k.index(), 1.0);
+            let mut w = Wrench::new(mi.block, mj.block, mi.r, mj.r);
+            w.g = e;
+            (d[k.index()], w)
+        }
+        Primitive::InPlane(b) => {
+            // The normal turns with J, and the reaction acts at p_I on both parts.
+            let a: Vec3 = mj.axes.column(b.index()).into();
+            let rho = mi.p - mj.x;
+            let mut w = Wrench::new(mi.block, mj.block, mi.r, rho);
+            w.g = a;
+            w.dg = d_axis_j(&a);
+            w.drho = d_point_i(&mi.r)
+                - blocks([
+                    Mat3::zeros(),
+                    Mat3::zeros(),
+                    Mat3::identity(),
+                    Mat3::zeros(),
+                ]);
+            (a.dot(&d), w)
+        }
+        Primitive::Perpendicular(pa, pb) => {
+            let a: Vec3 = mi.axes.column(pa.index()).into();
+            let b: Vec3 = mj.axes.column(pb.index()).into();
+            let mut w = Wrench::new(mi.block, mj.block, mi.r, mj.r);
+            w.m = a.cross(&b);
+            // d(a × b) = (theta_I × a) × b + a × (theta_J × b).
+            w.dm = blocks([
+                Mat3::zeros(),
+                skew(&b) * skew(&a),
+                Mat3::zeros(),
+                -skew(&a) * skew(&b),
+            ]);
+            (a.dot(&b), w)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::testkit::{random_state, twin_part_model};
+    use super::*;
+    use crate::model::JointKind;
+
+    /// The gradient (generalised force of the unit wrench) equals a central
+    /// difference of the value, and its tangent a central difference of the
+    /// gradient, for every primitive at random poses.
+    #[test]
+    fn gradients_and_second_derivatives_match_finite_differences() {
+        for seed in 0..4u64 {
+            for kind in JointKind::ALL {
+                for ground_j in [false, true] {
+                    let model = twin_part_model(kind, ground_j, seed);
+                    let layout = Layout::new(&model);
+                    let state = random_state(&model, seed + 11);
+                    for eq in equations(&model) {
+                        let (_, w) = evaluate(&model, &layout, &state, &eq);
+                        let mut grad = nalgebra::DVector::zeros(layout.n());
+                        w.add_force(&mut grad);
+                        let mut hess = nalgebra::DMatrix::zeros(layout.n(), layout.n());
+                        w.add_tangent(&mut hess);
+                        let h = 1e-6;
+                        for c in 0..layout.n() {
+                            let f = |s: f64| {
+                                let mut st = state.clone();
+                                let mut dq = nalgebra::DVector::zeros(layout.n());
+                                dq[c] = s;
+                                st.apply(&layout, &dq);
+                                let (v, w) = evaluate(&model, &layout, &st, &eq);
+                                let mut g = nalgebra::DVector::zeros(layout.n());
+                                w.add_force(&mut g);
+                                (v, g)
+                            };
+                            let (vp, gp) = f(h);
+                            let (vm, gm) = f(-h);
+                            let fd = (vp - vm) / (2.0 * h);
+                            assert!(
+                                (fd - grad[c]).abs() < 1e-6 * (1.0 + fd.abs()),
+                                "{kind:?} {eq:?} col {c}: {fd} vs {}",
+                                grad[c]
+                            );
+                            let fdg = (gp - gm) / (2.0 * h);
+                            for r in 0..layout.n() {
+                                let e = (fdg[r] - hess[(r, c)]).abs();
+                                assert!(
+                                    e < 1e-5 * (1.0 + fdg[r].abs()),
+                                    "{kind:?} {eq:?} ({r},{c}): {} vs {}",
+                                    fdg[r],
+                                    hess[(r, c)]
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,156 @@
+//! Generalised coordinates: 6 per moving part, a position and a rotation.
+//!
+//! A part's pose is stored as its origin `x` and rotation matrix `R` (both global;
+//! at design `x = 0`, `R = I`, since every part frame is the global frame there).
+//! Newton works on increments `(dx, theta)` with `x ← x + dx` and
+//! `R ← exp(theta~) R` (a global rotation vector, Rodrigues' formula), so every
+//! Jacobian is taken at zero increment and no parameterisation is singular.
+
+use crate::geom::{Mat3, Vec3, skew};
+use crate::model::{MarkerId, Model, PartId, PointLoad};
+use nalgebra::DVector;
+
+/// Which coordinate block (6 coordinates) each part owns; ground owns none.
+#[derive(Debug, Clone)]
+pub struct Layout {
+    pub block_of_part: Vec<Option<usize>>,
+    pub moving: Vec<PartId>,
+}
+
+impl Layout {
+    pub fn new(model: &Model) -> Layout {
+        let moving: Vec<PartId> = model.moving_parts().collect();
+        let mut block_of_part = vec![None; model.parts.len()];
+        for (b, p) in moving.iter().enumerate() {
+            block_of_part[p.index()] = Some(b);
+        }
+        Layout {
+            block_of_part,
+            moving,
+        }
+    }
+
+    /// Number of coordinates.
+    pub fn n(&self) -> usize {
+        6 * self.moving.len()
+    }
+}
+
+/// A configuration of the model: the pose of every part, and the loads it was
+/// last brought into equilibrium with (the start of the next load sub-step).
+/// Path-dependent element states (friction, hysteresis) would live here too.
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    /// Origin and rotation of each part frame (indexed like `Model::parts`), global.
+    pub(crate) poses: Vec<(Vec3, Mat3)>,
+    /// Loads this state is in equilibrium with (empty at design).
+    pub(crate) loads: Vec<PointLoad>,
+    /// Multipliers of the independent constraint equations (warm start of the next step).
+    pub(crate) lambda: Vec<f64>,
+}
+
+impl State {
+    /// The design configuration: every part frame equal to the global frame.
+    pub fn design(model: &Model) -> State {
+        State {
+            poses: vec![(Vec3::zeros(), Mat3::identity()); model.parts.len()],
+            loads: Vec::new(),
+            lambda: Vec::new(),
+        }
+    }
+
+    /// The part frame's origin and rotation (columns: its axes), global.
+    /// An unknown part id gives the design pose.
+    pub fn part_pose(&self, p: PartId) -> (Vec3, Mat3) {
+        self.poses
+            .get(p.index())
+            .copied()
+            .unwrap_or((Vec3::zeros(), Mat3::identity()))
+    }
+
+    /// The loads this state is in equilibrium with.
+    pub fn loads(&self) -> &[PointLoad] {
+        &self.loads
+    }
+
+    /// Applies a coordinate increment `(dx, theta)` per moving part.
+    pub(crate) fn apply(&mut self, layout: &Layout, dq: &DVector<f64>) {
+        for (b, p) in layout.moving.iter().enumerate() {
+            let dx = Vec3::new(dq[6 * b], dq[6 * b + 1], dq[6 * b + 2]);
+            let th = Vec3::new(dq[6 * b + 3], dq[6 * b + 4], dq[6 * b + 5]);
+            let (x, r) = &mut self.poses[p.index()];
+            *x += dx;
+            *r = orthonormalize(&(rodrigues(&th) * *r));
+        }
+    }
+}
+
+/// `exp(theta~)`: the rotation by |theta| about theta (Rodrigues' formula).
+pub fn rodrigues(th: &Vec3) -> Mat3 {
+    let a = th.norm();
+    let k = skew(th);
+    // Series near zero keeps the formula accurate where sin(a)/a loses digits.
+    let (s, c) = if a < 1e-6 {
+        (1.0 - a * a / 6.0, 0.5 - a * a / 24.0)
+    } else {
+        (a.sin() / a, (1.0 - a.cos()) / (a * a))
+    };
+    Mat3::identity() + k * s + k * k * c
+}
+
+/// Removes rounding drift so a rotation matrix stays orthonormal over long load paths.
+fn orthonormalize(r: &Mat3) -> Mat3 {
+    let x = r.column(0).normalize();
+    let y0 = r.column(1) - x * x.dot(&r.column(1));
+    let y = y0.normalize();
+    let z = x.cross(&y);
+    Mat3::from_columns(&[x, y, z])
+}
+
+/// A marker's current frame and how it moves with its part.
+#[derive(Debug, Clone, Copy)]
+pub struct MarkerKin {
+    /// Coordinate block of the marker's part (None on ground).
+    pub block: Option<usize>,
+    /// Origin, global.
+    pub p: Vec3,
+    /// Arm from the part origin to the marker origin, global (`p - x`).
+    pub r: Vec3,
+    /// Axes as columns, global.
+    pub axes: Mat3,
+    /// The part frame's origin, global.
+    pub x: Vec3,
+}
+
+pub fn marker_kin(model: &Model, layout: &Layout, state: &State, id: MarkerId) -> MarkerKin {
+    let m = model.marker(id);
+    let (x, rot) = state.part_pose(m.part);
+    let r = rot * m.origin();
+    MarkerKin {
+        block: layout.block_of_part[m.part.index()],
+        p: x + r,
+        r,
+        axes: rot * m.rotation,
+        x,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rodrigues_is_a_rotation_about_its_vector() {
+        for th in [
+            Vec3::new(0.3, -0.2, 0.9),
+            Vec3::new(1e-8, 0.0, 2e-8),
+            Vec3::zeros(),
+        ] {
+            let r = rodrigues(&th);
+            assert!((r.transpose() * r - Mat3::identity()).abs().max() < 1e-14);
+            assert!((r * th - th).norm() < 1e-14);
+            let na = nalgebra::Rotation3::new(th);
+            assert!((r - na.matrix()).abs().max() < 1e-14);
+        }
+    }
+}

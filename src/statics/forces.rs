@@ -1,0 +1,378 @@
+//! Force elements as wrenches with analytic derivatives: bushings (linear,
+//! cubic, tabulated, offsets, preloads; projected angles), springs (linear,
+//! tabulated), stops (compression, rebound) and point loads (`conventions.md`).
+
+use super::coords::{Layout, State, marker_kin};
+use super::error::{StaticsError, StaticsErrorKind};
+use super::wrench::{M3x12, Wrench, blocks, d_point_i, d_point_j};
+use crate::geom::{Mat3, Vec3, projected_angles, skew};
+use crate::model::{
+    Bushing, BushingId, ElementId, Model, PointLoad, Spring, SpringId, SpringLaw, Stop, StopId,
+    StopKind, values,
+};
+
+/// A bushing's state: deformation, force and torque on I in J axes, and its wrench.
+#[derive(Debug, Clone)]
+pub struct BushingEval {
+    /// Translational deformation `t = R_J^T (p_I - p_J)`, mm.
+    pub t: Vec3,
+    /// Projected angles `(ax, ay, az)`, rad.
+    pub angles: Vec3,
+    /// Force on I, J axes, N.
+    pub force: Vec3,
+    /// Torque on I, J axes, N·mm.
+    pub torque: Vec3,
+    pub wrench: Wrench,
+}
+
+const ZERO: Mat3 = Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+
+/// Rows `d(angle)/dw` of the projected angles for a relative rotation increment
+/// `w` in J axes, with `dQ = w~ Q`. A row is zero where its atan2 is undefined.
+fn angle_rates(q: &Mat3) -> Mat3 {
+    // d(column c of Q) = w × q_c = -q_c~ w; each angle is atan2(y, x) of two entries.
+    let row = |c: usize, r: usize| -> nalgebra::RowVector3<f64> {
+        let qc: Vec3 = q.column(c).into();
+        (-skew(&qc)).row(r).into_owned()
+    };
+    let atan2_rate =
+        |y: f64, dy: nalgebra::RowVector3<f64>, x: f64, dx: nalgebra::RowVector3<f64>| {
+            let den = x * x + y * y;
+            if den > 1e-300 {
+                (dy * x - dx * y) / den
+            } else {
+                nalgebra::RowVector3::zeros()
+            }
+        };
+    let ax = atan2_rate(-q[(1, 2)], -row(2, 1), q[(2, 2)], row(2, 2));
+    let ay = atan2_rate(q[(0, 2)], row(2, 0), q[(2, 2)], row(2, 2));
+    let az = atan2_rate(q[(1, 0)], row(0, 1), q[(0, 0)], row(0, 0));
+    Mat3::from_rows(&[ax, ay, az])
+}
+
+pub fn bushing(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> BushingEval {
+    let mi = marker_kin(model, layout, state, b.i);
+    let mj = marker_kin(model, layout, state, b.j);
+    let rj = mj.axes;
+    let t = rj.transpose() * (mi.p - mj.p);
+    let q = rj.transpose() * mi.axes;
+    let angles = projected_angles(&q);
+    let (t0, a0) = (values(&b.offset), values(&b.angle_offset));
+    let (f0, m0) = (values(&b.preload), values(&b.torque_preload));
+    let mut force = Vec3::zeros();
+    let mut torque = Vec3::zeros();
+    let mut kt = Mat3::zeros();
+    let mut ka = Mat3::zeros();
+    for k in 0..3 {
+        let (f, s) = b.translational[k].eval(t[k] - t0[k]);
+        force[k] = -f + f0[k];
+        kt[(k, k)] = s;
+        let (f, s) = b.rotational[k].eval(angles[k] - a0[k]);
+        torque[k] = -f + m0[k];
+        ka[(k, k)] = s;
+    }
+    // The force acts at p_I on both parts; on J that point is at rho from J's origin.
+    let rho = mi.p - mj.x;
+    let mut w = Wrench::new(mi.block, mj.block, mi.r, rho);
+    w.drho = d_point_i(&mi.r) - blocks([ZERO, ZERO, Mat3::identity(), ZERO]);
+    w.g = rj * force;
+    w.m = rj * torque;
+    let dt: M3x12 = rj.transpose()
+        * blocks([
+            Mat3::identity(),
+            -skew(&mi.r),
+            -Mat3::identity(),
+            skew(&rho),
+        ]);
+    let da: M3x12 = angle_rates(&q)
+        * rj.transpose()
+        * blocks([ZERO, Mat3::identity(), ZERO, -Mat3::identity()]);
+    // g = R_J F: R_J turns with theta_J, and F changes with t.
+    let turn_j = blocks([ZERO, ZERO, ZERO, Mat3::identity()]);
+    w.dg = -skew(&w.g) * turn_j - rj * kt * dt;
+    w.dm = -skew(&w.m) * turn_j - rj * ka * da;
+    BushingEval {
+        t,
+        angles,
+        force,
+        torque,
+        wrench: w,
+    }
+}
+
+/// A push-apart force `f(l)` along the I–J separation, with `df/dl`.
+fn along(
+    model: &Model,
+    layout: &Layout,
+    state: &State,
+    i: crate::model::MarkerId,
+    j: crate::model::MarkerId,
+    law: impl Fn(f64) -> (f64, f64),
+) -> Option<(f64, f64, Wrench)> {
+    let mi = marker_kin(model, layout, state, i);
+    let mj = marker_kin(model, layout, state, j);
+    let d = mi.p - mj.p;
+    let l = d.norm();
+    // Zero length: no direction, so no force can be defined.
+    if !(l > 1e-9) {
+        return None;
+    }
+    let u = d / l;
+    let (f, df) = law(l);
+    let mut w = Wrench::new(mi.block, mj.block, mi.r, mj.r);
+    w.g = u * f;
+    let uu = u * u.transpose();
+    let dd = d_point_i(&mi.r) - d_point_j(&mj.r);
+    w.dg = (uu * df + (Mat3::identity() - uu) * (f / l)) * dd;
+    Some((l, f, w))
+}
+
+/// Length (mm), push-apart force (N) and wrench of a spring.
+pub fn spring(
+    model: &Model,
+    layout: &Layout,
+    state: &State,
+    id: SpringId,
+    s: &Spring,
+) -> Result<(f64, f64, Wrench), StaticsError> {
+    along(model, layout, state, s.i, s.j, |l| match &s.law {
+        SpringLaw::Linear {
+            k,
+            free_length,
+            preload,
+        } => (k.value * (free_length.value - l) + preload.value, -k.value),
+        SpringLaw::Table(t) => t.eval(l),
+    })
+    .ok_or_else(|| degenerate(ElementId::Spring(id), "spring"))
+}
+
+/// Length (mm), push-apart force (N) and wrench of a stop (zero when not in contact).
+pub fn stop(
+    model: &Model,
+    layout: &Layout,
+    state: &State,
+    id: StopId,
+    s: &Stop,
+) -> Result<(f64, f64, Wrench), StaticsError> {
+    let lc = s.contact_length.value;
+    along(model, layout, state, s.i, s.j, |l| match s.kind {
+        StopKind::Compression if l < lc => {
+            let (f, df) = s.law.eval(lc - l);
+            (f, -df)
+        }
+        StopKind::Rebound if l > lc => {
+            let (f, df) = s.law.eval(l - lc);
+            (-f, -df)
+        }
+        _ => (0.0, 0.0),
+    })
+    .ok_or_else(|| degenerate(ElementId::Stop(id), "stop"))
+}
+
+fn degenerate(e: ElementId, what: &str) -> StaticsError {
+    StaticsError::new(
+        StaticsErrorKind::DegenerateElement,
+        vec![e],
+        format!("the {what}'s two markers coincide, so its line of action is undefined"),
+    )
+}
+
+/// The wrench of a point load (global force and torque at a marker origin);
+/// None when the marker is on ground (the load goes straight into the ground).
+pub fn point_load(model: &Model, layout: &Layout, state: &State, l: &PointLoad) -> Option<Wrench> {
+    let mk = marker_kin(model, layout, state, l.marker);
+    mk.block?;
+    let mut w = Wrench::new(mk.block, None, mk.r, Vec3::zeros());
+    w.g = l.force;
+    w.m = l.torque;
+    Some(w)
+}
+
+/// Every force-element wrench of the model (bushings, springs, stops) at a state.
+pub fn element_wrenches(
+    model: &Model,
+    layout: &Layout,
+    state: &State,
+) -> Result<Vec<(ElementId, Wrench)>, StaticsError> {
+    let mut out = Vec::new();
+    for (k, b) in model.bushings.iter().enumerate() {
+        out.push((
+            ElementId::Bushing(BushingId(k as u32)),
+            bushing(model, layout, state, b).wrench,
+        ));
+    }
+    for (k, s) in model.springs.iter().enumerate() {
+        let id = SpringId(k as u32);
+        out.push((
+            ElementId::Spring(id),
+            spring(model, layout, state, id, s)?.2,
+        ));
+    }
+    for (k, s) in model.stops.iter().enumerate() {
+        let id = StopId(k as u32);
+        out.push((ElementId::Stop(id), stop(model, layout, state, id, s)?.2));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::testkit::{Lcg, force_model, random_state};
+    use super::*;
+    use crate::model::{AxisLaw, MarkerId};
+    use nalgebra::{DMatrix, DVector};
+
+    fn total(
+        model: &Model,
+        layout: &Layout,
+        state: &State,
+        loads: &[PointLoad],
+    ) -> (DVector<f64>, DMatrix<f64>) {
+        let mut q = DVector::zeros(layout.n());
+        let mut k = DMatrix::zeros(layout.n(), layout.n());
+        let ws = element_wrenches(model, layout, state).expect("nondegenerate");
+        for (_, w) in ws.iter() {
+            w.add_force(&mut q);
+            w.add_tangent(&mut k);
+        }
+        for l in loads {
+            if let Some(w) = point_load(model, layout, state, l) {
+                w.add_force(&mut q);
+                w.add_tangent(&mut k);
+            }
+        }
+        (q, k)
+    }
+
+    fn perturbed(layout: &Layout, state: &State, c: usize, s: f64) -> State {
+        let mut st = state.clone();
+        let mut dq = DVector::zeros(layout.n());
+        dq[c] = s;
+        st.apply(layout, &dq);
+        st
+    }
+
+    /// The analytic tangent of every force element equals a central difference of
+    /// its generalised force, at random poses (both parts moving, and J on ground).
+    #[test]
+    fn tangent_stiffness_matches_finite_differences() {
+        for seed in 0..6u64 {
+            for ground_j in [false, true] {
+                let model = force_model(ground_j, seed);
+                let layout = Layout::new(&model);
+                let state = random_state(&model, 100 + seed);
+                let loads = [PointLoad {
+                    marker: MarkerId(0),
+                    force: Vec3::new(100.0, -50.0, 30.0),
+                    torque: Vec3::new(1e3, 2e3, -5e2),
+                }];
+                let (_, k) = total(&model, &layout, &state, &loads);
+                let h = 1e-6;
+                for c in 0..layout.n() {
+                    let (qp, _) = total(&model, &layout, &perturbed(&layout, &state, c, h), &loads);
+                    let (qm, _) =
+                        total(&model, &layout, &perturbed(&layout, &state, c, -h), &loads);
+                    let fd = (qp - qm) / (2.0 * h);
+                    let scale = 1.0 + k.column(c).amax();
+                    for r in 0..layout.n() {
+                        assert!(
+                            (fd[r] - k[(r, c)]).abs() < 1e-6 * scale,
+                            "seed {seed} ({r},{c}): fd {} vs {}",
+                            fd[r],
+                            k[(r, c)]
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// Springs, stops, the translational part of a bushing and constant point
+    /// forces are conservative: their generalised force is minus the gradient of
+    /// the potential energy written independently here.
+    #[test]
+    fn conservative_elements_do_virtual_work_of_their_potential() {
+        for seed in 0..4u64 {
+            let mut model = force_model(seed % 2 == 0, seed);
+            let b = &mut model.bushings[0];
+            b.rotational = [
+                AxisLaw::linear(0.0),
+                AxisLaw::linear(0.0),
+                AxisLaw::linear(0.0),
+            ];
+            b.torque_preload = crate::model::vals([0.0; 3]);
+            let layout = Layout::new(&model);
+            let mut rng = Lcg::new(seed);
+            let loads = [PointLoad {
+                marker: MarkerId(0),
+                force: rng.vec(200.0),
+                torque: Vec3::zeros(),
+            }];
+            let energy = |st: &State| -> f64 {
+                let mut v = 0.0;
+                let b = &model.bushings[0];
+                let ev = bushing(&model, &layout, st, b);
+                for k in 0..3 {
+                    let d = ev.t[k] - b.offset[k].value;
+                    let (k1, k3) = match &b.translational[k] {
+                        AxisLaw::Linear { k, k3 } => (k.value, k3.value),
+                        AxisLaw::Table(_) => unreachable!("the test bushing is polynomial"),
+                    };
+                    v += 0.5 * k1 * d * d + 0.25 * k3 * d.powi(4) - b.preload[k].value * ev.t[k];
+                }
+                for (k, s) in model.springs.iter().enumerate() {
+                    let (l, _, _) =
+                        spring(&model, &layout, st, SpringId(k as u32), s).expect("spring");
+                    v += match &s.law {
+                        SpringLaw::Linear {
+                            k,
+                            free_length,
+                            preload,
+                        } => 0.5 * k.value * (l - free_length.value).powi(2) - preload.value * l,
+                        // Push-apart table (0,5000) (200,1000) (500,-200), linear
+                        // beyond its ends: the trapezoid rule is exact between kinks.
+                        SpringLaw::Table(t) => {
+                            let mut xs = vec![0.0];
+                            if l > 200.0 {
+                                xs.push(200.0);
+                            }
+                            xs.push(l);
+                            -xs.windows(2)
+                                .map(|w| (w[1] - w[0]) * (t.eval(w[0]).0 + t.eval(w[1]).0) / 2.0)
+                                .sum::<f64>()
+                        }
+                    };
+                }
+                for s in &model.stops {
+                    let mi = marker_kin(&model, &layout, st, s.i).p;
+                    let mj = marker_kin(&model, &layout, st, s.j).p;
+                    let l = (mi - mj).norm();
+                    let lc = s.contact_length.value;
+                    let pen = match s.kind {
+                        StopKind::Compression => lc - l,
+                        StopKind::Rebound => l - lc,
+                    };
+                    if pen > 0.0 {
+                        v += 100.0 * pen * pen / 2.0 + 5.0 * pen.powi(3) / 3.0;
+                    }
+                }
+                v - loads[0]
+                    .force
+                    .dot(&marker_kin(&model, &layout, st, MarkerId(0)).p)
+            };
+            let state = random_state(&model, 7 + seed);
+            let (q, _) = total(&model, &layout, &state, &loads);
+            let h = 1e-5;
+            for c in 0..layout.n() {
+                let fd = -(energy(&perturbed(&layout, &state, c, h))
+                    - energy(&perturbed(&layout, &state, c, -h)))
+                    / (2.0 * h);
+                assert!(
+                    (fd - q[c]).abs() < 1e-4 * (1.0 + q[c].abs()),
+                    "seed {seed} coord {c}: -dV {fd} vs Q {}",
+                    q[c]
+                );
+            }
+        }
+    }
+}

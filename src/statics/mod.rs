@@ -1,0 +1,370 @@
+//! Static equilibrium of a checked model (`conventions.md`, "Static equilibrium"):
+//! Newton on `Q(q) + Phi_q^T λ = 0, Phi(q) = 0` from the design configuration or
+//! from the previous state of a load path, with automatic load sub-stepping.
+//!
+//! Layout: [`coords`] (6 coordinates per moving part, rotation increments by
+//! Rodrigues), [`wrench`] (the one generalised-force shape every element reduces
+//! to), [`constraint`] (joint primitives), [`forces`] (bushings, springs, stops,
+//! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`report`].
+
+pub mod compliance;
+pub mod constraint;
+pub mod coords;
+pub mod error;
+pub mod forces;
+pub mod mobility;
+pub mod newton;
+pub mod redundancy;
+pub mod report;
+#[cfg(test)]
+mod testkit;
+pub mod wrench;
+
+pub use compliance::compliance;
+pub use coords::State;
+pub use error::{StaticsError, StaticsErrorKind};
+pub use mobility::{Mobility, Motion};
+pub use redundancy::RedundantEquation;
+
+use crate::geom::Vec3;
+use crate::model::{ElementId, JointId, LoadSetId, Model, PointLoad};
+use constraint::{Equation, evaluate};
+use coords::Layout;
+use newton::{Failure, Homotopy, assemble, errors, newton};
+use redundancy::{independence, scaled_jacobian};
+
+/// A model compiled for the statics backend: coordinate layout, constraint
+/// equations, the independent subset, and the characteristic length.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    pub(crate) model: Model,
+    pub(crate) layout: Layout,
+    pub(crate) equations: Vec<Equation>,
+    /// Indices (into `equations`) of the independent equations the solver uses.
+    pub(crate) kept: Vec<usize>,
+    /// Equations implied by earlier ones at design; left out, checked after solving.
+    pub redundant: Vec<RedundantEquation>,
+    /// Largest distance of a marker from the markers' centroid (mm, at least 1):
+    /// the radius that makes rotations comparable with translations.
+    pub length: f64,
+}
+
+impl Problem {
+    pub fn new(model: &Model) -> Result<Problem, StaticsError> {
+        if model.ground().is_none() {
+            return Err(StaticsError::new(
+                StaticsErrorKind::NoGround,
+                vec![],
+                "the model has no ground part, so nothing holds it in place",
+            ));
+        }
+        Ok(Problem::compile(model))
+    }
+
+    /// Compiles without requiring a ground (mobility analysis reports the floating motions).
+    fn compile(model: &Model) -> Problem {
+        let layout = Layout::new(model);
+        let equations = constraint::equations(model);
+        let pts: Vec<Vec3> = model.markers.iter().map(|m| m.origin()).collect();
+        let c = if pts.is_empty() {
+            Vec3::zeros()
+        } else {
+            pts.iter().sum::<Vec3>() / pts.len() as f64
+        };
+        let length = pts.iter().map(|p| (p - c).norm()).fold(1.0, f64::max);
+        let all: Vec<usize> = (0..equations.len()).collect();
+        let design = State::design(model);
+        let sj = scaled_jacobian(model, &layout, &design, &equations, &all, length);
+        let ind = independence(&equations, &sj.jac);
+        Problem {
+            model: model.clone(),
+            layout,
+            equations,
+            kept: ind.kept,
+            redundant: ind.redundant,
+            length,
+        }
+    }
+
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+}
+
+/// The reaction of a joint on its I part: a force at the I marker origin and a
+/// torque, global (N, N·mm).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reaction {
+    pub joint: JointId,
+    pub force: Vec3,
+    pub torque: Vec3,
+}
+
+/// A converged static equilibrium.
+#[derive(Debug, Clone)]
+pub struct Equilibrium {
+    pub state: State,
+    /// Newton iterations over all sub-steps.
+    pub iterations: usize,
+    /// Extra load steps taken because a full step failed (0: one step sufficed).
+    pub substeps: usize,
+    /// Final residual: the larger of the force residual relative to the force
+    /// scale and the constraint residual relative to the characteristic length.
+    pub residual: f64,
+    pub reactions: Vec<Reaction>,
+}
+
+/// Loads between `from` (at 0) and `to` (at 1), marker by marker.
+fn interpolate(from: &[PointLoad], to: &[PointLoad], s: f64) -> Vec<PointLoad> {
+    if s >= 1.0 {
+        return to.to_vec();
+    }
+    let mut out: Vec<PointLoad> = Vec::new();
+    for (w, set) in [(1.0 - s, from), (s, to)] {
+        for l in set {
+            let k = match out.iter().position(|o| o.marker == l.marker) {
+                Some(k) => k,
+                None => {
+                    out.push(PointLoad {
+                        marker: l.marker,
+                        force: Vec3::zeros(),
+                        torque: Vec3::zeros(),
+                    });
+                    out.len() - 1
+                }
+            };
+            out[k].force += l.force * w;
+            out[k].torque += l.torque * w;
+        }
+    }
+    out
+}
+
+/// The force scale of a solve: applied loads and the element forces at the start (N).
+fn force_scale(p: &Problem, loads: &[PointLoad], start: &State) -> f64 {
+    let mut f = 1.0f64;
+    for l in loads.iter().chain(start.loads.iter()) {
+        f = f.max(l.force.norm() + l.torque.norm() / p.length);
+    }
+    if let Ok(ws) = forces::element_wrenches(&p.model, &p.layout, start) {
+        for (_, w) in ws {
+            f = f.max(w.g.norm() + w.m.norm() / p.length);
+        }
+    }
+    f
+}
+
+/// The smallest load step (of the whole change of load) before giving up.
+const MIN_STEP: f64 = 1.0 / 4096.0;
+
+/// Static equilibrium under `loads`, starting from `start` (the load is applied in
+/// sub-steps from the loads `start` was in equilibrium with when a full step fails).
+pub fn solve(
+    problem: &Problem,
+    loads: &[PointLoad],
+    start: &State,
+) -> Result<Equilibrium, StaticsError> {
+    let model = &problem.model;
+    if let Some(l) = loads
+        .iter()
+        .find(|l| l.marker.index() >= model.markers.len())
+    {
+        return Err(StaticsError::new(
+            StaticsErrorKind::BadInput,
+            vec![],
+            format!(
+                "a load refers to marker #{} that the model does not have",
+                l.marker.0
+            ),
+        ));
+    }
+    if start.poses.len() != model.parts.len() {
+        return Err(StaticsError::new(
+            StaticsErrorKind::BadInput,
+            vec![],
+            "the start state belongs to another model",
+        ));
+    }
+    if let Some(l) = loads
+        .iter()
+        .find(|l| !(l.force.iter().chain(l.torque.iter()).all(|v| v.is_finite())))
+    {
+        return Err(StaticsError::new(
+            StaticsErrorKind::BadInput,
+            vec![ElementId::Marker(l.marker)],
+            "a load component is not a finite number",
+        ));
+    }
+    let force = force_scale(problem, loads, start);
+    let from = start.loads.clone();
+    let mut state = start.clone();
+    let (r0, phi0) = match assemble(problem, start, &from) {
+        Ok(sys) => (sys.r, sys.phi),
+        Err(e) => return Err(e),
+    };
+    let (mut s, mut ds, mut steps, mut iterations) = (0.0f64, 1.0f64, 0usize, 0usize);
+    while s < 1.0 {
+        let target = if s + ds >= 1.0 - 1e-12 { 1.0 } else { s + ds };
+        let l = interpolate(&from, loads, target);
+        let mut trial = state.clone();
+        let h = Homotopy {
+            r0: r0.clone(),
+            phi0: phi0.clone(),
+            remaining: 1.0 - target,
+        };
+        match newton(problem, &l, &mut trial, force, &h) {
+            Ok(it) => {
+                iterations += it;
+                steps += 1;
+                state = trial;
+                state.loads = l;
+                s = target;
+                ds *= 2.0;
+            }
+            Err(Failure::Fatal(e)) => return Err(e),
+            Err(Failure::Stalled(at)) => {
+                iterations += 1;
+                ds /= 2.0;
+                if ds < MIN_STEP {
+                    return Err(not_converged(problem, &at, &l, force));
+                }
+            }
+        }
+    }
+    finish(problem, state, iterations, steps.saturating_sub(1), force)
+}
+
+/// Checks the left-out redundant equations and collects the reactions.
+fn finish(
+    p: &Problem,
+    state: State,
+    iterations: usize,
+    substeps: usize,
+    force: f64,
+) -> Result<Equilibrium, StaticsError> {
+    let sys = assemble(p, &state, &state.loads)?;
+    let (ef, ec) = errors(p, &sys, force);
+    // A load that happens not to excite a free motion still converges; the
+    // equilibrium is then not unique, which is an error, not a result.
+    if let Some(e) = newton::singular_direction(p, &newton::kkt(&sys)) {
+        return Err(e);
+    }
+    let all: Vec<usize> = (0..p.equations.len()).collect();
+    let sj = scaled_jacobian(&p.model, &p.layout, &state, &p.equations, &all, p.length);
+    for (k, v) in sj.phi.iter().enumerate() {
+        // Redundant equations hold only as well as the geometry's consistency.
+        if !p.kept.contains(&k) && v.abs() > 1e-6 * p.length {
+            return Err(StaticsError::new(
+                StaticsErrorKind::InconsistentRedundancy,
+                vec![ElementId::Joint(p.equations[k].joint)],
+                format!(
+                    "the redundant equation {} is violated by {:.3e} at equilibrium: the joints of the loop disagree",
+                    p.equations[k].primitive.describe(),
+                    v
+                ),
+            ));
+        }
+    }
+    let mut reactions: Vec<Reaction> = Vec::new();
+    for (idx, &e) in p.kept.iter().enumerate() {
+        let eq = &p.equations[e];
+        let (_, w) = evaluate(&p.model, &p.layout, &state, eq);
+        let lam = state.lambda.get(idx).copied().unwrap_or(0.0);
+        match reactions.iter_mut().find(|r| r.joint == eq.joint) {
+            Some(r) => {
+                r.force += w.g * lam;
+                r.torque += w.m * lam;
+            }
+            None => reactions.push(Reaction {
+                joint: eq.joint,
+                force: w.g * lam,
+                torque: w.m * lam,
+            }),
+        }
+    }
+    Ok(Equilibrium {
+        state,
+        iterations,
+        substeps,
+        residual: ef.max(ec),
+        reactions,
+    })
+}
+
+/// The error for a load step that would not converge: the part with the largest
+/// residual and the element contributing most to it.
+fn not_converged(p: &Problem, st: &State, loads: &[PointLoad], force: f64) -> StaticsError {
+    let detail = "Newton did not converge even with the smallest load sub-step".to_string();
+    let Ok(sys) = assemble(p, st, loads) else {
+        return StaticsError::new(StaticsErrorKind::NotConverged, vec![], detail);
+    };
+    let (ef, ec) = errors(p, &sys, force);
+    let mut elements = Vec::new();
+    // A nearly singular Newton matrix is the usual cause: name its motion first.
+    if let Some((ratio, motion)) = newton::softest_motion(p, &newton::kkt(&sys)) {
+        if ratio < 1e-6 {
+            return StaticsError::new(
+                StaticsErrorKind::NotConverged,
+                vec![ElementId::Part(motion.part)],
+                format!(
+                    "{detail}: the {} is nearly unrestrained (stiffness ratio {ratio:.1e}) (residual {ef:.2e} of the force scale, {ec:.2e} of the length)",
+                    motion.words
+                ),
+            );
+        }
+    }
+    if ec * force > ef * p.length && !sys.phi.is_empty() {
+        let k = sys.phi.iamax();
+        elements.push(ElementId::Joint(p.equations[p.kept[k]].joint));
+    } else {
+        let c = sys.r.iamax();
+        let part = p.layout.moving[c / 6];
+        elements.push(ElementId::Part(part));
+        let mut best = (0.0, None);
+        if let Ok(ws) = forces::element_wrenches(&p.model, &p.layout, st) {
+            for (id, w) in ws {
+                let mut g = nalgebra::DVector::zeros(p.layout.n());
+                w.add_force(&mut g);
+                if g[c].abs() > best.0 {
+                    best = (g[c].abs(), Some(id));
+                }
+            }
+        }
+        if let (_, Some(id)) = best {
+            elements.push(id);
+        }
+    }
+    StaticsError::new(
+        StaticsErrorKind::NotConverged,
+        elements,
+        format!(
+            "{detail} (residual {:.2e} of the force scale, {:.2e} of the length)",
+            ef, ec
+        ),
+    )
+}
+
+/// Solves every case of a load set in order, each from the previous state.
+pub fn solve_set(model: &Model, set: LoadSetId) -> Result<Vec<Equilibrium>, StaticsError> {
+    let Some(ls) = model.load_sets.get(set.index()) else {
+        return Err(StaticsError::new(
+            StaticsErrorKind::BadInput,
+            vec![],
+            format!("load set #{} does not exist", set.0),
+        ));
+    };
+    let problem = Problem::new(model)?;
+    let mut state = State::design(model);
+    let mut out = Vec::with_capacity(ls.cases.len());
+    for case in 0..ls.cases.len() {
+        let eq = solve(&problem, &model.point_loads(set, case), &state)?;
+        state = eq.state.clone();
+        out.push(eq);
+    }
+    Ok(out)
+}
+
+/// Mobility of the model at the design configuration (for the checker).
+pub fn mobility(model: &Model) -> Mobility {
+    mobility::analyse(&Problem::compile(model))
+}

@@ -1,0 +1,140 @@
+//! The per-case report of `solve --format json` (`interfaces.md`), and warnings
+//! about bushings driven outside the range of their projected angles.
+
+use super::coords::Layout;
+use super::forces::{bushing, spring};
+use super::{Equilibrium, State};
+use crate::kc::{WheelQuantities, wheel_quantities};
+use crate::model::{BushingId, ElementId, Model, SpringId};
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PartReport {
+    /// Part frame origin, mm, global.
+    pub position: [f64; 3],
+    /// Part frame axes as columns, rows of the matrix listed.
+    pub rotation: [[f64; 3]; 3],
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BushingReport {
+    /// `[tx, ty, tz]` mm and projected angles `[ax, ay, az]` deg, J axes.
+    pub deformation: [f64; 6],
+    /// Force (N) and torque (N·mm) on I, J axes.
+    pub force: [f64; 6],
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SpringReport {
+    /// mm.
+    pub length: f64,
+    /// Tension positive, N (a compressed spring has a negative force).
+    pub force: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CaseReport {
+    pub name: String,
+    pub step: usize,
+    pub converged: bool,
+    pub iterations: usize,
+    pub parts: BTreeMap<String, PartReport>,
+    pub wheels: BTreeMap<String, WheelQuantities>,
+    pub bushings: BTreeMap<String, BushingReport>,
+    pub springs: BTreeMap<String, SpringReport>,
+    pub substeps: usize,
+}
+
+/// The report of one solved case (`step` counts from 1).
+pub fn case_report(model: &Model, name: &str, step: usize, eq: &Equilibrium) -> CaseReport {
+    let st = &eq.state;
+    let layout = Layout::new(model);
+    let mut parts = BTreeMap::new();
+    for p in model.moving_parts() {
+        let (x, r) = st.part_pose(p);
+        parts.insert(
+            model.part(p).name.clone(),
+            PartReport {
+                position: x.into(),
+                rotation: [0, 1, 2].map(|i| [r[(i, 0)], r[(i, 1)], r[(i, 2)]]),
+            },
+        );
+    }
+    let wheels = model
+        .wheels
+        .iter()
+        .map(|w| (w.name.clone(), wheel_quantities(model, st, w)))
+        .collect();
+    let mut bushings = BTreeMap::new();
+    for b in &model.bushings {
+        let e = bushing(model, &layout, st, b);
+        let a = e.angles.map(f64::to_degrees);
+        bushings.insert(
+            b.name.clone(),
+            BushingReport {
+                deformation: [e.t.x, e.t.y, e.t.z, a.x, a.y, a.z],
+                force: [
+                    e.force.x, e.force.y, e.force.z, e.torque.x, e.torque.y, e.torque.z,
+                ],
+            },
+        );
+    }
+    let mut springs = BTreeMap::new();
+    for (k, s) in model.springs.iter().enumerate() {
+        // A converged state never has a zero-length spring (its force is undefined there).
+        if let Ok((l, push, _)) = spring(model, &layout, st, SpringId(k as u32), s) {
+            springs.insert(
+                s.name.clone(),
+                SpringReport {
+                    length: l,
+                    force: -push,
+                },
+            );
+        }
+    }
+    CaseReport {
+        name: name.to_string(),
+        step,
+        converged: true,
+        iterations: eq.iterations,
+        parts,
+        wheels,
+        bushings,
+        springs,
+        substeps: eq.substeps,
+    }
+}
+
+/// Projected angles are meaningful within about ±15° (`methods.md` §4.2).
+pub const ANGLE_LIMIT_DEG: f64 = 15.0;
+
+/// A bushing whose projected angle leaves ±15°.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AngleWarning {
+    pub bushing: ElementId,
+    pub name: String,
+    /// "ax", "ay" or "az".
+    pub angle: &'static str,
+    pub value_deg: f64,
+}
+
+pub fn angle_warnings(model: &Model, state: &State) -> Vec<AngleWarning> {
+    let layout = Layout::new(model);
+    let mut out = Vec::new();
+    for (k, b) in model.bushings.iter().enumerate() {
+        let e = bushing(model, &layout, state, b);
+        for (i, name) in ["ax", "ay", "az"].into_iter().enumerate() {
+            let v = e.angles[i].to_degrees();
+            if v.abs() > ANGLE_LIMIT_DEG {
+                out.push(AngleWarning {
+                    bushing: ElementId::Bushing(BushingId(k as u32)),
+                    name: b.name.clone(),
+                    angle: name,
+                    value_deg: v,
+                });
+            }
+        }
+    }
+    out
+}

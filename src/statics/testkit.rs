@@ -1,0 +1,145 @@
+//! Small random models and states for the finite-difference unit tests.
+
+use super::coords::{State, rodrigues};
+use crate::geom::{Mat3, Vec3};
+use crate::model::*;
+
+/// A deterministic pseudo-random sequence in [-1, 1) (no extra dependency).
+pub struct Lcg(u64);
+
+impl Lcg {
+    pub fn new(seed: u64) -> Lcg {
+        Lcg(seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407))
+    }
+    pub fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    }
+    pub fn vec(&mut self, s: f64) -> Vec3 {
+        Vec3::new(self.next() * s, self.next() * s, self.next() * s)
+    }
+}
+
+fn marker(model: &mut Model, part: usize, name: &str, rng: &mut Lcg) -> MarkerId {
+    let p = rng.vec(150.0);
+    let rot: Mat3 = rodrigues(&rng.vec(1.5));
+    model.markers.push(Marker {
+        name: name.to_string(),
+        part: PartId(part as u32),
+        position: vals([p.x, p.y, p.z]),
+        orientation: Orientation::Identity,
+        rotation: rot,
+    });
+    MarkerId(model.markers.len() as u32 - 1)
+}
+
+fn parts(model: &mut Model) {
+    for (n, g) in [("ground", true), ("a", false), ("b", false)] {
+        model.parts.push(Part {
+            name: n.to_string(),
+            ground: g,
+        });
+    }
+}
+
+/// Parts `ground`, `a`, `b`; one joint of `kind` with I on `a` and J on `b`
+/// (or on ground), at random markers.
+pub fn twin_part_model(kind: JointKind, ground_j: bool, seed: u64) -> Model {
+    let mut rng = Lcg::new(seed);
+    let mut m = Model::default();
+    parts(&mut m);
+    let i = marker(&mut m, 1, "i", &mut rng);
+    let j = marker(&mut m, if ground_j { 0 } else { 2 }, "j", &mut rng);
+    m.joints.push(Joint {
+        name: "jt".into(),
+        kind,
+        i,
+        j,
+    });
+    m
+}
+
+/// Parts `ground`, `a`, `b` with a nonlinear bushing (offsets, preloads), a
+/// linear and a tabulated spring, and both kinds of stop between `a` and `b`
+/// (or `a` and ground), all at random markers.
+pub fn force_model(ground_j: bool, seed: u64) -> Model {
+    let mut rng = Lcg::new(seed);
+    let mut m = Model::default();
+    parts(&mut m);
+    let jp = if ground_j { 0 } else { 2 };
+    let bi = marker(&mut m, 1, "bi", &mut rng);
+    let bj = marker(&mut m, jp, "bj", &mut rng);
+    let mut b = Bushing::linear("b", bi, bj, [300.0, 2000.0, 900.0], [4e5, 2e5, 7e5]);
+    b.translational[1] = AxisLaw::Linear {
+        k: Val::lit(500.0),
+        k3: Val::lit(3.0),
+    };
+    b.rotational[2] = AxisLaw::Table(Table {
+        points: vec![(-1.0, -9e5), (0.0, 0.0), (0.2, 1e5), (1.0, 9e5)],
+    });
+    b.offset = vals([0.5, -0.2, 0.1]);
+    b.angle_offset = vals([0.01, -0.02, 0.03]);
+    b.preload = vals([10.0, -20.0, 5.0]);
+    b.torque_preload = vals([100.0, 0.0, -300.0]);
+    m.bushings.push(b);
+    for (n, law) in [
+        (
+            "s_lin",
+            SpringLaw::Linear {
+                k: Val::lit(30.0),
+                free_length: Val::lit(290.0),
+                preload: Val::lit(12.0),
+            },
+        ),
+        (
+            "s_tab",
+            SpringLaw::Table(Table {
+                points: vec![(0.0, 5000.0), (200.0, 1000.0), (500.0, -200.0)],
+            }),
+        ),
+    ] {
+        let i = marker(&mut m, 1, n, &mut rng);
+        let j = marker(&mut m, jp, n, &mut rng);
+        m.springs.push(Spring {
+            name: n.into(),
+            i,
+            j,
+            law,
+        });
+    }
+    for (n, kind) in [
+        ("bump", StopKind::Compression),
+        ("rebound", StopKind::Rebound),
+    ] {
+        let i = marker(&mut m, 1, n, &mut rng);
+        let j = marker(&mut m, jp, n, &mut rng);
+        let l = (m.marker(i).origin() - m.marker(j).origin()).norm();
+        m.stops.push(Stop {
+            name: n.into(),
+            kind,
+            i,
+            j,
+            // Put the contact length so that random states probe both sides.
+            contact_length: Val::lit(l),
+            law: StopLaw::Polynomial(vec![Val::lit(100.0), Val::lit(5.0)]),
+        });
+    }
+    m
+}
+
+/// Random poses of the moving parts (translations up to 20 mm, rotations up to ~0.5 rad).
+pub fn random_state(model: &Model, seed: u64) -> State {
+    let mut rng = Lcg::new(seed);
+    let mut s = State::design(model);
+    for (k, p) in model.parts.iter().enumerate() {
+        if !p.ground {
+            s.poses[k] = (rng.vec(20.0), rodrigues(&rng.vec(0.3)));
+        }
+    }
+    s
+}

@@ -1,0 +1,148 @@
+//! A wrench between two parts and its generalised force and tangent.
+//!
+//! Every element of the statics backend (joint primitives as unit reactions,
+//! bushings, springs, stops, point loads) reduces to one shape: a force `g` on
+//! part I applied at arm `r_i` from I's origin, the opposite force on part J at
+//! arm `rho` from J's origin, a torque `m` on I and `-m` on J. With the local
+//! coordinate order `[dx_I, theta_I, dx_J, theta_J]` (12), the generalised force
+//! is `[g; r_i × g + m; -g; -(rho × g) - m]`. Its derivative follows from the
+//! derivatives of `g, m, r_i, rho` (3×12 each), which each element supplies.
+
+use crate::geom::{Mat3, Vec3, skew};
+use nalgebra::{DMatrix, DVector, SMatrix, SVector};
+
+pub type M3x12 = SMatrix<f64, 3, 12>;
+pub type V12 = SVector<f64, 12>;
+pub type M12 = SMatrix<f64, 12, 12>;
+
+/// A 3×12 matrix from four 3×3 blocks `[dx_I, theta_I, dx_J, theta_J]`.
+pub fn blocks(b: [Mat3; 4]) -> M3x12 {
+    let mut m = M3x12::zeros();
+    for (k, blk) in b.iter().enumerate() {
+        m.fixed_view_mut::<3, 3>(0, 3 * k).copy_from(blk);
+    }
+    m
+}
+
+/// The derivative of a point fixed to I at arm `r`: `[I, -r~, 0, 0]`.
+pub fn d_point_i(r: &Vec3) -> M3x12 {
+    blocks([Mat3::identity(), -skew(r), Mat3::zeros(), Mat3::zeros()])
+}
+
+/// The derivative of a point fixed to J at arm `r`: `[0, 0, I, -r~]`.
+pub fn d_point_j(r: &Vec3) -> M3x12 {
+    blocks([Mat3::zeros(), Mat3::zeros(), Mat3::identity(), -skew(r)])
+}
+
+/// The derivative of an axis `a` fixed to J: `[0, 0, 0, -a~]` (da = theta_J × a).
+pub fn d_axis_j(a: &Vec3) -> M3x12 {
+    blocks([Mat3::zeros(), Mat3::zeros(), Mat3::zeros(), -skew(a)])
+}
+
+#[derive(Debug, Clone)]
+pub struct Wrench {
+    /// Coordinate blocks of parts I and J (None: ground).
+    pub i: Option<usize>,
+    pub j: Option<usize>,
+    /// Force on I (global); J receives `-g`.
+    pub g: Vec3,
+    /// Torque on I (global); J receives `-m`.
+    pub m: Vec3,
+    /// Arm of the force on I from I's origin, and of the force on J from J's origin.
+    pub r_i: Vec3,
+    pub rho: Vec3,
+    pub dg: M3x12,
+    pub dm: M3x12,
+    /// Derivatives of the arms as points moving with their parts.
+    pub dr_i: M3x12,
+    pub drho: M3x12,
+}
+
+impl Wrench {
+    /// A wrench with zero derivatives, to be filled by the element.
+    pub fn new(i: Option<usize>, j: Option<usize>, r_i: Vec3, rho: Vec3) -> Wrench {
+        Wrench {
+            i,
+            j,
+            g: Vec3::zeros(),
+            m: Vec3::zeros(),
+            r_i,
+            rho,
+            dg: M3x12::zeros(),
+            dm: M3x12::zeros(),
+            dr_i: blocks([Mat3::zeros(), -skew(&r_i), Mat3::zeros(), Mat3::zeros()]),
+            drho: blocks([Mat3::zeros(), Mat3::zeros(), Mat3::zeros(), -skew(&rho)]),
+        }
+    }
+
+    /// The generalised force on `[I; J]`.
+    pub fn generalized(&self) -> V12 {
+        let mut q = V12::zeros();
+        q.fixed_rows_mut::<3>(0).copy_from(&self.g);
+        q.fixed_rows_mut::<3>(3)
+            .copy_from(&(self.r_i.cross(&self.g) + self.m));
+        q.fixed_rows_mut::<3>(6).copy_from(&(-self.g));
+        q.fixed_rows_mut::<3>(9)
+            .copy_from(&(-self.rho.cross(&self.g) - self.m));
+        q
+    }
+
+    /// The derivative of [`Self::generalized`] with respect to the 12 local increments.
+    pub fn tangent(&self) -> M12 {
+        let gs = skew(&self.g);
+        let rows = [
+            self.dg,
+            -gs * self.dr_i + skew(&self.r_i) * self.dg + self.dm,
+            -self.dg,
+            gs * self.drho - skew(&self.rho) * self.dg - self.dm,
+        ];
+        let mut k = M12::zeros();
+        for (b, r) in rows.iter().enumerate() {
+            k.fixed_view_mut::<3, 12>(3 * b, 0).copy_from(r);
+        }
+        k
+    }
+
+    /// Multiplies the wrench and its derivatives by `s` (a multiplier λ); the arms stay.
+    pub fn scaled(mut self, s: f64) -> Wrench {
+        self.g *= s;
+        self.m *= s;
+        self.dg *= s;
+        self.dm *= s;
+        self
+    }
+
+    /// Global coordinate offset of each 6-block of the local order.
+    fn offsets(&self) -> [Option<usize>; 2] {
+        [self.i.map(|b| 6 * b), self.j.map(|b| 6 * b)]
+    }
+
+    /// Adds the generalised force into a global vector.
+    pub fn add_force(&self, q: &mut DVector<f64>) {
+        let loc = self.generalized();
+        for (s, off) in self.offsets().iter().enumerate() {
+            if let Some(o) = off {
+                for a in 0..6 {
+                    q[o + a] += loc[6 * s + a];
+                }
+            }
+        }
+    }
+
+    /// Adds the tangent into a global matrix.
+    pub fn add_tangent(&self, k: &mut DMatrix<f64>) {
+        let loc = self.tangent();
+        let offs = self.offsets();
+        for (sr, ro) in offs.iter().enumerate() {
+            let Some(ro) = ro else { continue };
+            for (sc, co) in offs.iter().enumerate() {
+                let Some(co) = co else { continue };
+                for a in 0..6 {
+                    for b in 0..6 {
+                        k[(ro + a, co + b)] += loc[(6 * sr + a, 6 * sc + b)];
+                    }
+                }
+            }
+        }
+    }
+}
