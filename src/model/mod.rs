@@ -3,6 +3,7 @@
 //! values are in internal units (mm, N, rad), parameters are first-class, and
 //! [`origin::Origins`] maps elements back to source.
 
+pub mod address;
 pub mod elements;
 pub mod id;
 pub mod joint;
