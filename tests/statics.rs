@@ -2,7 +2,7 @@
 //! (`tests/data/expected`, computed by a separate implementation of
 //! `spec/conventions.md`) and against closed-form results.
 
-use axle::geom::{Mat3, Vec3, euler_zxz, frame_from_z_x};
+use axle::geom::{Mat3, Vec3, frame_from_z_x};
 use axle::model::*;
 use axle::statics::{self, Problem, State, StaticsErrorKind, report::case_report};
 use axle::units::DEG;
@@ -64,10 +64,6 @@ impl Builder {
             .push(Bushing::linear(name, i, j, k, kt_deg.map(|v| v / DEG)));
         BushingId(self.m.bushings.len() as u32 - 1)
     }
-}
-
-fn euler(a: [f64; 3]) -> Mat3 {
-    euler_zxz(a[0] * DEG, a[1] * DEG, a[2] * DEG)
 }
 
 fn load(marker: MarkerId, f: [f64; 3], t: [f64; 3]) -> Vec<PointLoad> {
@@ -441,91 +437,28 @@ fn a_model_without_ground_is_an_error_not_a_panic() {
 }
 
 // ---------------------------------------------------------------------------
-// McPherson (benchmarks.md §4), built from the hardpoint table.
+// McPherson (benchmarks.md §4): the shipped example, so that the example file
+// itself is checked against the independent results.
 
 struct McPherson {
     model: Model,
     contact: MarkerId,
 }
 
+/// `examples/mcpherson.axle`, with the strut top mount's kt_z (N·mm/deg) replaced.
 fn mcpherson(kt_z_f: f64) -> McPherson {
-    let mut b = Builder::new("mcpherson");
-    let chassis = b.part("chassis", true);
-    let front = b.part("front_arm", false);
-    let rear = b.part("rear_arm", false);
-    let tie = b.part("tie_rod", false);
-    let strut = b.part("strut", false);
-    let up = b.part("upright", false);
-    let (pb, eb) = ([294.7, 365.1, 246.1], euler([309.5, 90.22, 181.7]));
-    let (pa, ea) = ([-61.1, 383.5, 186.2], euler([259.58, 90.24, 4.11]));
-    let l3 = [73.7, 353.4, 228.3];
-    let (pf, ef) = ([-73.7, 594.7, 762.6], euler([141.5, 166.7, 53.68]));
-    let (l5, e5) = ([-63.1, 617.8, 635.1], euler([151.16, 168.1, 0.0]));
-    let (l6, l7, l8) = (
-        [135.3, 694.6, 207.4],
-        [-5.87, 679.9, 164.8],
-        [25.5, 691.2, 233.0],
+    let text = include_str!("../examples/mcpherson.axle");
+    let nominal = "    kt_axial 1000 N*mm/deg\n";
+    assert_eq!(
+        text.matches(nominal).count(),
+        1,
+        "the example's strut mount line"
     );
-    let i = b.marker(chassis, "B", pb, eb);
-    let j = b.marker(front, "B", pb, eb);
-    b.bushing("B", i, j, [310.0, 2400.0, 180.0], [4500.0, 1100.0, 1600.0]);
-    let i = b.marker(chassis, "A", pa, ea);
-    let j = b.marker(rear, "A", pa, ea);
-    b.bushing(
-        "A",
-        i,
-        j,
-        [13875.0, 13875.0, 1370.0],
-        [11000.0, 11000.0, 4000.0],
-    );
-    let i = b.marker(strut, "F", pf, ef);
-    let cf = b.marker(chassis, "F", pf, ef);
-    b.bushing(
-        "F",
-        i,
-        cf,
-        [1285.0, 1285.0, 647.0],
-        [5500.0, 5500.0, kt_z_f],
-    );
-    let zi = (Vec3::from(l6) - Vec3::from(l3)).cross(&Vec3::z());
-    let i = b.marker(tie, "L3", l3, frame_from_z_x(zi, None).expect("frame"));
-    let j = b.marker(
-        chassis,
-        "L3",
-        l3,
-        frame_from_z_x(Vec3::z(), None).expect("frame"),
-    );
-    b.joint("L3", JointKind::Universal, i, j);
-    let i = b.marker(strut, "L5", l5, e5);
-    let u5 = b.marker(up, "L5", l5, e5);
-    b.joint("L5", JointKind::Cylindrical, i, u5);
-    for (name, part, p) in [("L6", tie, l6), ("L7", rear, l7), ("L8", front, l8)] {
-        let i = b.point(part, name, p);
-        let j = b.point(up, name, p);
-        b.joint(name, JointKind::Spherical, i, j);
-    }
-    let centre = b.marker(up, "WC", [0.0, 787.0, 305.0], euler([179.74, 90.69, 0.0]));
-    let contact = b.point(up, "CP", [0.0, 787.0, 0.0]);
-    b.m.springs.push(Spring {
-        name: "spring".into(),
-        i: cf,
-        j: u5,
-        law: SpringLaw::Linear {
-            k: Val::lit(30.0),
-            free_length: Val::lit(290.0),
-            preload: Val::ZERO,
-        },
-    });
-    b.m.wheels.push(Wheel {
-        name: "left".into(),
-        part: up,
-        centre,
-        contact,
-    });
-    McPherson {
-        model: b.m,
-        contact,
-    }
+    let text = text.replace(nominal, &format!("    kt_axial {kt_z_f} N*mm/deg\n"));
+    let (_, checked) = axle::check::check_str("mcpherson.axle", &text);
+    let model = checked.model.expect("the McPherson example checks");
+    let contact = model.wheels[0].contact;
+    McPherson { model, contact }
 }
 
 /// Wheel loads (fx, fy, fz) at the contact point.

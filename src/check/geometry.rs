@@ -11,6 +11,10 @@ const POSITION_TOL: f64 = 1e-3;
 const ANGLE_TOL: f64 = 1e-4;
 /// Two landmark distances closer than this defeat matching by distance table (mm).
 const LANDMARK_DISTANCE_TOL: f64 = 1.0;
+/// Validity limit of the bushing's projected angles, deg.
+const BUSHING_ANGLE_LIMIT: f64 = 15.0;
+/// A bushing whose markers are further apart than this at design starts loaded (mm).
+const BUSHING_GAP_LIMIT: f64 = 0.01;
 
 impl Checker {
     pub(super) fn geometry(&mut self) {
@@ -24,7 +28,9 @@ impl Checker {
                     Primitive::Coincident(_) => (d.norm(), POSITION_TOL),
                     Primitive::InPlane(b) => (d.dot(&mj.rotation.column(b.index())), POSITION_TOL),
                     Primitive::Perpendicular(a, b) => (
-                        mi.rotation.column(a.index()).dot(&mj.rotation.column(b.index())),
+                        mi.rotation
+                            .column(a.index())
+                            .dot(&mj.rotation.column(b.index())),
                         ANGLE_TOL,
                     ),
                 };
@@ -59,7 +65,42 @@ impl Checker {
                 self.problems.push(d);
             }
         }
+        self.bushing_alignment();
         self.landmark_tables();
+    }
+
+    /// Projected angles are meaningful while |ax|, |ay| stay under ~15°
+    /// (methods.md §4.2); a bushing that starts beyond that is almost surely a
+    /// marker orientation mistake.
+    fn bushing_alignment(&mut self) {
+        for (n, b) in self.model.bushings.iter().enumerate() {
+            let span = self.span_of(ElementId::Bushing(crate::model::BushingId(n as u32)));
+            let gap = (self.model.marker(b.i).origin() - self.model.marker(b.j).origin()).norm();
+            if gap > BUSHING_GAP_LIMIT {
+                self.problems.push(
+                    Diagnostic::warning("W0308", format!("the markers of bushing `{}` are {gap:.2} mm apart at the design configuration", b.name))
+                        .primary(span, format!("starts deformed by {gap:.2} mm"))
+                        .secondary_opt(self.model.origins.get(ElementId::Marker(b.i)), "I marker")
+                        .secondary_opt(self.model.origins.get(ElementId::Marker(b.j)), "J marker")
+                        .note("a bushing's deformation is the position of I relative to J, so this gap is a built-in load of stiffness times gap")
+                        .hint("write both markers at the bushing's centre, and use `offset` or `preload` for a built-in deformation or force"),
+                );
+            }
+            let q = self.model.marker(b.j).rotation.transpose() * self.model.marker(b.i).rotation;
+            let a = crate::geom::projected_angles(&q).map(f64::to_degrees);
+            let tilt = q[(2, 2)].clamp(-1.0, 1.0).acos().to_degrees();
+            if a.x.abs() > BUSHING_ANGLE_LIMIT
+                || a.y.abs() > BUSHING_ANGLE_LIMIT
+                || tilt > BUSHING_ANGLE_LIMIT
+            {
+                self.problems.push(
+                    Diagnostic::warning("W0307", format!("the markers of bushing `{}` are not aligned at the design configuration", b.name))
+                        .primary(span, format!("the z axes of I and J are {tilt:.1}° apart"))
+                        .note(format!("projected angles at design: ax {:.1}°, ay {:.1}°, az {:.1}°; they describe the bushing's torsion only while |ax| and |ay| stay below about {BUSHING_ANGLE_LIMIT}°", a.x, a.y, a.z))
+                        .hint("give the I and J markers of a bushing the same orientation, and use `angle_offset` for a built-in twist"),
+                );
+            }
+        }
     }
 
     fn landmark_tables(&mut self) {

@@ -58,7 +58,8 @@ pub struct Mobility {
 
 fn round(v: f64, digits: i32) -> f64 {
     let s = 10f64.powi(digits);
-    (v * s).round() / s
+    // `+ 0.0` turns -0 into 0, which reads better in messages.
+    (v * s).round() / s + 0.0
 }
 
 /// Describes a coordinate increment (mm, rad) by the part that moves most.

@@ -1,0 +1,93 @@
+//! Mobility at the design configuration (from [`crate::statics::mobility`]) as
+//! diagnostics: redundant constraint equations (a warning: solved anyway),
+//! unrestrained motions (an error) and nearly unrestrained ones (a warning).
+
+use super::Checker;
+use crate::diagnostic::Diagnostic;
+use crate::model::{ElementId, JointId};
+use crate::statics::mobility::{Mobility, Motion};
+
+impl Checker {
+    pub(super) fn mobility(&mut self) {
+        let m = crate::statics::mobility(&self.model);
+        let counts = counts(&m);
+        if !m.redundant.is_empty() {
+            let mut joints: Vec<JointId> = m
+                .redundant
+                .iter()
+                .flat_map(|r| r.with.iter().copied().chain([r.joint]))
+                .collect();
+            joints.sort();
+            joints.dedup();
+            let names: Vec<String> = joints
+                .iter()
+                .map(|j| format!("`{}`", self.model.joints[j.index()].name))
+                .collect();
+            let first = self.span_of(ElementId::Joint(m.redundant[0].joint));
+            let mut d = Diagnostic::warning(
+                "W0601",
+                format!(
+                    "{} redundant constraint equation{} among joints {}",
+                    m.redundant.len(),
+                    if m.redundant.len() == 1 { "" } else { "s" },
+                    names.join(", ")
+                ),
+            )
+            .primary(first, "this joint's equation is implied by the others");
+            for j in &joints {
+                if *j != m.redundant[0].joint {
+                    d = d.secondary(self.span_of(ElementId::Joint(*j)), "in the loop");
+                }
+            }
+            for r in &m.redundant {
+                let with: Vec<&str> = r
+                    .with
+                    .iter()
+                    .map(|j| self.model.joints[j.index()].name.as_str())
+                    .collect();
+                d = d.note(format!(
+                    "`{}` of joint `{}` follows from joints {}",
+                    r.equation,
+                    self.model.joints[r.joint.index()].name,
+                    with.join(", ")
+                ));
+            }
+            d = d.note(counts.clone()).hint("axle solves with the redundant equations left out; their reactions are not unique (a closed planar loop of revolutes is overconstrained in 3-D)");
+            self.problems.push(d);
+        }
+        for mo in &m.unrestrained {
+            let d = Diagnostic::error("E0601", format!("part `{}` can move with nothing to resist it", self.model.part(mo.part).name))
+                .primary(self.span_of(ElementId::Part(mo.part)), format!("free: {}", words(mo)))
+                .note(counts.clone())
+                .hint(if mo.rotation {
+                    "add a stiffness about that axis (a bushing), or a joint that holds it (e.g. a universal instead of a spherical joint at one end)"
+                } else {
+                    "add a joint or a force element that holds this translation"
+                });
+            self.problems.push(d);
+        }
+        for mo in &m.nearly_unrestrained {
+            let d = Diagnostic::warning("W0602", format!("part `{}` is nearly unrestrained", self.model.part(mo.part).name))
+                .primary(self.span_of(ElementId::Part(mo.part)), format!("soft: {}", words(mo)))
+                .note(format!("this motion's stiffness is {:.1e} of the stiffest mode's", mo.ratio))
+                .hint("under load the solver may land on an unstable equilibrium; add stiffness to this motion (for a strut, the top mount's kt_z)");
+            self.problems.push(d);
+        }
+    }
+}
+
+fn words(m: &Motion) -> String {
+    m.words.clone()
+}
+
+fn counts(m: &Mobility) -> String {
+    format!(
+        "Grübler: {} coordinates − {} constraint equations = {}; rank {} → {} degree{} of freedom",
+        m.coordinates,
+        m.equations,
+        m.grubler,
+        m.rank,
+        m.dof,
+        if m.dof == 1 { "" } else { "s" }
+    )
+}
