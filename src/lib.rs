@@ -15,6 +15,7 @@ pub mod diagnostic;
 pub mod fmt;
 pub mod geom;
 pub mod kc;
+pub mod measure;
 pub mod model;
 pub mod source;
 pub mod span;
