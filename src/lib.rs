@@ -9,16 +9,17 @@
 //!
 //! Only `main.rs` and `cli/` touch the filesystem.
 
+pub mod check;
+pub mod cli;
+pub mod data;
+pub mod diagnostic;
+pub mod fmt;
 pub mod geom;
 pub mod kc;
 pub mod model;
 pub mod source;
 pub mod span;
 pub mod statics;
-pub mod units;
-pub mod diagnostic;
-pub mod syntax;
-pub mod check;
 pub mod stdlib;
-pub mod cli;
-pub mod fmt;
+pub mod syntax;
+pub mod units;

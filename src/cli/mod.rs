@@ -8,7 +8,11 @@ use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 
 #[derive(Parser)]
-#[command(name = "axle", version, about = "A model language and compiler for car suspensions")]
+#[command(
+    name = "axle",
+    version,
+    about = "A model language and compiler for car suspensions"
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub cmd: Cmd,
