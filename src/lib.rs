@@ -11,6 +11,7 @@
 
 pub mod check;
 pub mod cli;
+pub mod data;
 pub mod diagnostic;
 pub mod fmt;
 pub mod geom;

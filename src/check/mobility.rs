@@ -66,6 +66,13 @@ impl Checker {
                 });
             self.problems.push(d);
         }
+        for mo in &m.unstable {
+            let d = Diagnostic::warning("W0603", format!("part `{}` is unstable at the design configuration", self.model.part(mo.part).name))
+                .primary(self.span_of(ElementId::Part(mo.part)), format!("negative stiffness: {}", words(mo)))
+                .note(format!("along this motion the loads built into the design state (a compressed spring, a bushing written deformed) outweigh the stiffness: {:.1e} of the stiffest mode", mo.ratio))
+                .hint("the solver may run away from the design state; check spring free lengths and preloads against the stiffnesses that hold the parts");
+            self.problems.push(d);
+        }
         for mo in &m.nearly_unrestrained {
             let d = Diagnostic::warning("W0602", format!("part `{}` is nearly unrestrained", self.model.part(mo.part).name))
                 .primary(self.span_of(ElementId::Part(mo.part)), format!("soft: {}", words(mo)))

@@ -244,7 +244,7 @@ mod tests {
     use super::*;
 
     fn model() -> Model {
-        let src = "param kz = 1000 N/mm\nground g {\n    marker o at (0, 0, 0) mm\n}\npart p {\n    marker o at (0, 0, 0) mm\n    marker t at (0, 0, 100) mm\n}\nbushing b {\n    i g.o\n    j p.o\n    k (10 N/mm, 20 N/mm, kz)\n    kt (1, 2, 3) N*mm/deg\n}\nspring s {\n    i g.o\n    j p.t\n    k 30 N/mm\n    free_length 290 mm\n}\n";
+        let src = "param kz = 1000 N/mm\nground g {\n    marker o at (0, 0, 0) mm\n}\npart p {\n    marker o at (0, 0, 0) mm\n    marker t at (0, 0, 100) mm\n}\nbushing b {\n    i g.o\n    j p.o\n    k (1000 N/mm, 2000 N/mm, kz)\n    kt (1, 2, 3) N*mm/deg\n}\nspring s {\n    i g.o\n    j p.t\n    k 30 N/mm\n    free_length 290 mm\n}\n";
         let (_, c) = crate::check::check_str("t.axle", src);
         c.model.expect("checks")
     }
@@ -253,9 +253,9 @@ mod tests {
     fn addresses_resolve_read_and_write() {
         let mut m = model();
         let a = Address::parse(&m, "b.k_y").expect("bushing field");
-        assert_eq!(a.get(&m), 20.0);
-        a.set(&mut m, 25.0);
-        assert_eq!(a.get(&m), 25.0);
+        assert_eq!(a.get(&m), 2000.0);
+        a.set(&mut m, 2500.0);
+        assert_eq!(a.get(&m), 2500.0);
         assert_eq!(a.name(&m), "b.k_y");
         let kt = Address::parse(&m, "b.kt_z").expect("rotational");
         assert!((kt.get(&m) - 3.0 / crate::units::DEG).abs() < 1e-9);

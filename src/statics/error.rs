@@ -1,6 +1,7 @@
 //! Errors of the statics backend: data naming the model elements responsible
 //! (`style.md`: errors are data, wording is rendered late).
 
+use crate::diagnostic::Diagnostic;
 use crate::model::{ElementId, Model};
 use std::fmt;
 
@@ -52,6 +53,67 @@ impl StaticsError {
             self.detail.clone()
         } else {
             format!("{} ({})", self.detail, names.join(", "))
+        }
+    }
+}
+
+impl StaticsErrorKind {
+    /// Stable diagnostic code (`E06xx`: statics).
+    pub fn code(self) -> &'static str {
+        match self {
+            StaticsErrorKind::NoGround => "E0601",
+            StaticsErrorKind::DegenerateElement => "E0602",
+            StaticsErrorKind::Unrestrained => "E0603",
+            StaticsErrorKind::NotConverged => "E0604",
+            StaticsErrorKind::InconsistentRedundancy => "E0605",
+            StaticsErrorKind::BadInput => "E0606",
+        }
+    }
+
+    /// What the user can try, in one sentence.
+    fn hint(self) -> Option<&'static str> {
+        match self {
+            StaticsErrorKind::NoGround => Some("declare one part with `ground` instead of `part`"),
+            StaticsErrorKind::Unrestrained => Some(
+                "add a joint or a bushing that holds this motion, or give the bushing a stiffness on that axis",
+            ),
+            StaticsErrorKind::NotConverged => Some(
+                "check the stiffnesses and the load size; a very soft element under a large load may fold the mechanism",
+            ),
+            StaticsErrorKind::InconsistentRedundancy => {
+                Some("make the joints of the loop agree at the design configuration")
+            }
+            StaticsErrorKind::DegenerateElement | StaticsErrorKind::BadInput => None,
+        }
+    }
+}
+
+impl StaticsError {
+    /// The diagnostic of this failure. The first element is the primary label
+    /// (the one responsible), the others secondary; an element without an origin
+    /// (added by a tool, not written in a file) is named in a note instead, so
+    /// the message always names every element responsible.
+    pub fn to_diagnostic(&self, model: &Model) -> Diagnostic {
+        let mut d = Diagnostic::error(self.kind.code(), self.message(model));
+        let mut primary = true;
+        for &e in &self.elements {
+            let what = model.describe(e);
+            match model.origins.get(e) {
+                Some(span) if primary => {
+                    d = d.primary(span, format!("{what} is responsible"));
+                    primary = false;
+                }
+                Some(span) => d = d.secondary(span, format!("{what} is involved")),
+                None => {
+                    d = d.note(format!(
+                        "{what} has no source location (it was added by a tool)"
+                    ))
+                }
+            }
+        }
+        match self.kind.hint() {
+            Some(h) => d.hint(h),
+            None => d,
         }
     }
 }

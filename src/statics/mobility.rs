@@ -54,6 +54,9 @@ pub struct Mobility {
     pub unrestrained: Vec<Motion>,
     /// Motions much softer than the stiffest mode (warnings).
     pub nearly_unrestrained: Vec<Motion>,
+    /// Motions with clearly negative stiffness at design: preloaded elements
+    /// (a compressed spring) push the mechanism away from the design state.
+    pub unstable: Vec<Motion>,
 }
 
 fn round(v: f64, digits: i32) -> f64 {
@@ -173,7 +176,9 @@ pub fn analyse(p: &Problem) -> Mobility {
         let dq = DVector::from_fn(n, |r, _| v[r] * s(r));
         let mut motion = describe_motion(model, layout, &dq, p.length);
         motion.ratio = ratio;
-        if ratio < UNRESTRAINED {
+        if ratio < -NEARLY_UNRESTRAINED {
+            mob.unstable.push(motion);
+        } else if ratio < UNRESTRAINED {
             mob.unrestrained.push(motion);
         } else {
             mob.nearly_unrestrained.push(motion);

@@ -1,0 +1,9 @@
+//! Readers of measured and tabulated data files (`interfaces.md`, "Measured data
+//! files"): comma-separated text with a header row and `#` comment lines. Each
+//! reader is a pure function of the text and a file id; `cli/` reads the file.
+
+pub mod csv_error;
+pub mod loads;
+pub mod table;
+
+pub use csv_error::CsvError;
