@@ -62,7 +62,10 @@ fn arrangements(k: usize, n: usize) -> Vec<Vec<usize>> {
 pub fn match_points(measured: &[Vec3], declared: &[Vec3], tol: f64) -> Result<Match, MatchError> {
     let (m, n) = (measured.len(), declared.len());
     if m > n || m < 3 || n > 8 {
-        return Err(MatchError::Count { measured: m, declared: n });
+        return Err(MatchError::Count {
+            measured: m,
+            declared: n,
+        });
     }
     let all: Vec<usize> = (0..m).collect();
     let try_subset = |idx: &[usize]| -> (Vec<(Vec<usize>, f64)>, f64) {
@@ -82,7 +85,10 @@ pub fn match_points(measured: &[Vec3], declared: &[Vec3], tol: f64) -> Result<Ma
         for (k, &i) in idx.iter().enumerate() {
             assignment[i] = Some(sigma[k]);
         }
-        Match { assignment, worst: w }
+        Match {
+            assignment,
+            worst: w,
+        }
     };
     let (ok, best) = try_subset(&all);
     match ok.len() {
@@ -167,7 +173,12 @@ mod tests {
 
     #[test]
     fn unrelated_points_do_not_match() {
-        let q: Vec<Vec3> = (0..4).map(|i| Vec3::new(i as f64 * 37.0, (i * i) as f64 * 11.0, 5.0)).collect();
-        assert!(matches!(match_points(&q, &declared(), 0.5), Err(MatchError::NoMatch { .. })));
+        let q: Vec<Vec3> = (0..4)
+            .map(|i| Vec3::new(i as f64 * 37.0, (i * i) as f64 * 11.0, 5.0))
+            .collect();
+        assert!(matches!(
+            match_points(&q, &declared(), 0.5),
+            Err(MatchError::NoMatch { .. })
+        ));
     }
 }

@@ -26,8 +26,13 @@ pub enum PoseFitError {
 impl std::fmt::Display for PoseFitError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            PoseFitError::TooFewPoints(n) => write!(f, "a pose needs at least 3 landmarks, {n} given"),
-            PoseFitError::Collinear => write!(f, "the landmarks are collinear: the rotation about their line is undetermined"),
+            PoseFitError::TooFewPoints(n) => {
+                write!(f, "a pose needs at least 3 landmarks, {n} given")
+            }
+            PoseFitError::Collinear => write!(
+                f,
+                "the landmarks are collinear: the rotation about their line is undetermined"
+            ),
         }
     }
 }
@@ -64,9 +69,18 @@ pub fn fit(landmarks: &[Vec3], measured: &[Vec3]) -> Result<PoseFit, PoseFitErro
     let d = (u * v_t).determinant().signum();
     let rotation = u * Mat3::from_diagonal(&Vec3::new(1.0, 1.0, d)) * v_t;
     let translation = qc - rotation * pc;
-    let residuals: Vec<f64> = p.iter().zip(q).map(|(a, b)| (translation + rotation * a - b).norm()).collect();
+    let residuals: Vec<f64> = p
+        .iter()
+        .zip(q)
+        .map(|(a, b)| (translation + rotation * a - b).norm())
+        .collect();
     let rms = (residuals.iter().map(|r| r * r).sum::<f64>() / n as f64).sqrt();
-    Ok(PoseFit { rotation, translation, residuals, rms })
+    Ok(PoseFit {
+        rotation,
+        translation,
+        residuals,
+        rms,
+    })
 }
 
 #[cfg(test)]
@@ -100,7 +114,11 @@ mod tests {
     #[test]
     fn coplanar_points_and_mirror_images_still_give_a_rotation() {
         // Three points are always coplanar: the SVD leaves the reflection ambiguous.
-        let p = vec![Vec3::new(0.0, 0.0, 0.0), Vec3::new(100.0, 0.0, 0.0), Vec3::new(0.0, 50.0, 0.0)];
+        let p = vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(100.0, 0.0, 0.0),
+            Vec3::new(0.0, 50.0, 0.0),
+        ];
         let r = euler_zxz(1.0, 0.4, -0.3);
         let t = Vec3::new(1.0, 2.0, 3.0);
         let f = fit(&p, &moved(&r, &t, &p)).expect("fit");
@@ -123,7 +141,9 @@ mod tests {
         let mut seed = 12345u64;
         for x in &mut q {
             for c in x.iter_mut() {
-                seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
                 *c += 0.05 * (((seed >> 33) as f64 / (1u64 << 31) as f64) - 1.0);
             }
         }
@@ -136,8 +156,13 @@ mod tests {
 
     #[test]
     fn degenerate_inputs_are_errors() {
-        assert_eq!(fit(&pts()[..2], &pts()[..2]), Err(PoseFitError::TooFewPoints(2)));
-        let line: Vec<Vec3> = (0..4).map(|i| Vec3::new(i as f64 * 10.0, 0.0, 0.0)).collect();
+        assert_eq!(
+            fit(&pts()[..2], &pts()[..2]),
+            Err(PoseFitError::TooFewPoints(2))
+        );
+        let line: Vec<Vec3> = (0..4)
+            .map(|i| Vec3::new(i as f64 * 10.0, 0.0, 0.0))
+            .collect();
         assert_eq!(fit(&line, &line), Err(PoseFitError::Collinear));
     }
 }
