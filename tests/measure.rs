@@ -136,3 +136,21 @@ fn shuffled_and_corrupted_landmarks_are_handled() {
     );
     assert!(steps[0].parts[&up].rms < 0.15);
 }
+
+#[test]
+fn synthetic_landmarks_without_noise_fit_the_truth_exactly() {
+    let model = mcpherson();
+    let set = model.load_set_named("thesis_table_5_1").expect("set");
+    let csv = axle::measure::synthetic::landmarks_csv(&model, set, 0.0, 1).expect("solves");
+    let (obs, _) = axle::data::landmarks::read(&csv, &model).expect("reads");
+    let (steps, issues) = fit_poses(&model, &obs, 0.5);
+    assert!(issues.is_empty());
+    let eqs = axle::statics::solve_set(&model, set).expect("solves");
+    for (s, eq) in steps.iter().zip(&eqs) {
+        for (part, pose) in &s.parts {
+            let (t, r) = eq.state.part_pose(*part);
+            assert!((pose.rotation - r).abs().max() < 1e-9);
+            assert!((pose.translation - t).norm() < 1e-6);
+        }
+    }
+}

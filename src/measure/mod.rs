@@ -4,3 +4,4 @@
 pub mod matching;
 pub mod pose_fit;
 pub mod poses;
+pub mod synthetic;

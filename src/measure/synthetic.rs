@@ -1,0 +1,95 @@
+//! Synthetic measurements from a truth model: solve its load set, place every
+//! landmark with its part's pose, add seeded Gaussian noise, and write the
+//! landmark and K&C files of `interfaces.md`. Tests and benchmarks of
+//! localisation and identification use these as data whose answer is known.
+
+use crate::geom::Vec3;
+use crate::model::{LoadSetId, Model, values};
+use crate::statics::{self, StaticsError};
+use std::fmt::Write;
+
+/// A small, seeded normal-variate source (splitmix64 + Box–Muller), so that
+/// synthetic data are reproducible without a random-number dependency.
+pub struct Noise {
+    state: u64,
+    spare: Option<f64>,
+}
+
+impl Noise {
+    pub fn new(seed: u64) -> Noise {
+        Noise {
+            state: seed ^ 0x9E37_79B9_7F4A_7C15,
+            spare: None,
+        }
+    }
+
+    fn uniform(&mut self) -> f64 {
+        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        // 53 random bits in (0, 1].
+        ((z >> 11) as f64 + 1.0) / (1u64 << 53) as f64
+    }
+
+    /// A standard normal variate.
+    pub fn normal(&mut self) -> f64 {
+        if let Some(s) = self.spare.take() {
+            return s;
+        }
+        let (u, v) = (self.uniform(), self.uniform());
+        let r = (-2.0 * u.ln()).sqrt();
+        let t = std::f64::consts::TAU * v;
+        self.spare = Some(r * t.sin());
+        r * t.cos()
+    }
+}
+
+/// Landmark CSV (`step, part, landmark, x, y, z`) of every case of a load set,
+/// steps numbered from 1, with noise of standard deviation `sigma` mm per coordinate.
+pub fn landmarks_csv(
+    model: &Model,
+    set: LoadSetId,
+    sigma: f64,
+    seed: u64,
+) -> Result<String, StaticsError> {
+    let eqs = statics::solve_set(model, set)?;
+    let mut noise = Noise::new(seed);
+    let mut out = String::from("step,part,landmark,x,y,z\n");
+    for (k, eq) in eqs.iter().enumerate() {
+        for l in &model.landmarks {
+            let (t, r) = eq.state.part_pose(l.part);
+            let x: Vec3 = t + r * values(&l.position);
+            let x = x.map(|c| c + sigma * noise.normal());
+            let _ = writeln!(
+                out,
+                "{},{},{},{},{},{}",
+                k + 1,
+                model.part(l.part).name,
+                l.name,
+                x.x,
+                x.y,
+                x.z
+            );
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn noise_has_unit_variance_and_is_reproducible() {
+        let mut a = Noise::new(7);
+        let xs: Vec<f64> = (0..20000).map(|_| a.normal()).collect();
+        let mean = xs.iter().sum::<f64>() / xs.len() as f64;
+        let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / xs.len() as f64;
+        assert!(mean.abs() < 0.03, "{mean}");
+        assert!((var - 1.0).abs() < 0.03, "{var}");
+        let mut b = Noise::new(7);
+        assert_eq!(b.normal(), xs[0]);
+    }
+}
