@@ -16,6 +16,7 @@ pub mod diagnostic;
 pub mod fmt;
 pub mod geom;
 pub mod kc;
+pub mod locate;
 pub mod measure;
 pub mod model;
 pub mod source;

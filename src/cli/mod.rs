@@ -3,6 +3,7 @@
 
 pub mod check;
 pub mod fmt;
+pub mod locate;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
@@ -34,6 +35,8 @@ pub enum Cmd {
         #[arg(long, value_enum, default_value = "human")]
         format: DiagFormat,
     },
+    /// Joint centres and axes from landmark motion (thesis chapter 3).
+    Locate(locate::Args),
     /// Rewrite axle files in canonical layout (comments kept).
     Fmt {
         #[arg(required = true)]
@@ -56,6 +59,7 @@ pub fn run(cli: Cli) -> Exit {
     match cli.cmd {
         Cmd::Check { files, format } => check::run(&files, format),
         Cmd::Fmt { files, check } => fmt::run(&files, check),
+        Cmd::Locate(args) => locate::run(&args),
     }
 }
 

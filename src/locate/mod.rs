@@ -1,0 +1,9 @@
+//! Joint localisation from part motion (thesis chapter 3): centres and axes of
+//! joints and bushings from the measured poses of the parts they connect.
+
+pub mod linear;
+pub mod motion;
+pub mod nonlinear;
+pub mod plan;
+pub mod report;
+pub mod simplex;
