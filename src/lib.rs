@@ -17,6 +17,7 @@ pub mod fmt;
 pub mod geom;
 pub mod kc;
 pub mod model;
+pub mod output;
 pub mod source;
 pub mod span;
 pub mod statics;
