@@ -40,7 +40,7 @@ pub fn redundancy(model: &Model, redundant: &[RedundantEquation]) -> Option<Diag
             }
         ));
     }
-    Some(d.hint("a planar loop of revolute joints is overconstrained in 3-D; this is expected there, and its reactions are not unique"))
+    Some(d.hint("redundant joints are allowed (a planar loop is overconstrained in 3-D), but the reactions they share are not unique"))
 }
 
 /// One warning per bushing whose projected angles leave ±15° in some case:
