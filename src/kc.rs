@@ -2,7 +2,7 @@
 //! (`conventions.md`, "Wheel and K&C quantities").
 
 use crate::geom::Vec3;
-use crate::model::{Model, Wheel};
+use crate::model::{LoadSetId, Model, Wheel};
 use crate::statics::State;
 use serde::Serialize;
 
@@ -58,4 +58,47 @@ pub fn wheel_quantities(model: &Model, state: &State, w: &Wheel) -> WheelQuantit
         half_track_mm: cp.y.abs(),
         half_track_change_mm: cp.y.abs() - cp0.y.abs(),
     }
+}
+
+/// One row of a K&C table: a wheel at one step of a load path, with the wheel
+/// loads (N, N·mm, global, at the contact marker) and its quantities.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct KcRow {
+    /// 1-based position along the path.
+    pub step: usize,
+    pub loadcase: String,
+    pub wheel: String,
+    /// `[fx, fy, fz]`, N.
+    pub force: [f64; 3],
+    /// `[mx, my, mz]`, N·mm.
+    pub torque: [f64; 3],
+    pub quantities: WheelQuantities,
+}
+
+/// The K&C rows of solved cases of a load set, one per case and wheel (wheels
+/// in declaration order). `states[k]` is the equilibrium of case `k`.
+pub fn kc_rows(model: &Model, set: LoadSetId, states: &[&State]) -> Vec<KcRow> {
+    let Some(ls) = model.load_sets.get(set.index()) else {
+        return Vec::new();
+    };
+    let mut rows = Vec::new();
+    for (k, (case, st)) in ls.cases.iter().zip(states).enumerate() {
+        let loads = model.point_loads(set, k);
+        for w in &model.wheels {
+            let (mut f, mut t) = (Vec3::zeros(), Vec3::zeros());
+            for l in loads.iter().filter(|l| l.marker == w.contact) {
+                f += l.force;
+                t += l.torque;
+            }
+            rows.push(KcRow {
+                step: k + 1,
+                loadcase: case.name.clone(),
+                wheel: w.name.clone(),
+                force: f.into(),
+                torque: t.into(),
+                quantities: wheel_quantities(model, st, w),
+            });
+        }
+    }
+    rows
 }

@@ -19,6 +19,7 @@ pub mod kc;
 pub mod locate;
 pub mod measure;
 pub mod model;
+pub mod output;
 pub mod source;
 pub mod span;
 pub mod statics;

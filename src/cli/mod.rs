@@ -3,7 +3,11 @@
 
 pub mod check;
 pub mod fmt;
+pub mod input;
+pub mod kc;
 pub mod locate;
+pub mod solve;
+pub mod trim;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
@@ -23,6 +27,17 @@ pub struct Cli {
 pub enum DiagFormat {
     Human,
     Json,
+}
+
+/// Output of `solve` and `kc`.
+#[derive(Copy, Clone, PartialEq, Eq, ValueEnum)]
+pub enum OutFormat {
+    /// Fixed-width tables for a terminal.
+    Table,
+    /// One JSON document (`interfaces.md`).
+    Json,
+    /// The K&C CSV (`interfaces.md`), one row per case and wheel.
+    Csv,
 }
 
 #[derive(Subcommand)]
@@ -45,6 +60,45 @@ pub enum Cmd {
         #[arg(long)]
         check: bool,
     },
+    /// Static equilibrium of each load case, in order, each from the previous state.
+    Solve {
+        file: PathBuf,
+        /// The load-case set to solve (default: the file's `default loads`).
+        #[arg(long, value_name = "SET")]
+        loadcases: Option<String>,
+        /// Wheel loads from a CSV file (step, fx, fy, fz [, mx, my, mz, wheel, loadcase]).
+        #[arg(long, value_name = "CSV", conflicts_with = "loadcases")]
+        loads: Option<PathBuf>,
+        #[arg(long, value_enum, default_value = "table")]
+        format: OutFormat,
+        /// Write the results here instead of stdout.
+        #[arg(short, long, value_name = "FILE")]
+        output: Option<PathBuf>,
+        /// Ride-height trim: the parameter to adjust (`spring.free_length`, `spring.preload`, a `param`).
+        #[arg(long, value_name = "PARAM")]
+        trim: Option<String>,
+        /// The case in which the trim marker returns to its design height (default: the first).
+        #[arg(long, value_name = "CASE", requires = "trim")]
+        trim_case: Option<String>,
+        /// The marker whose height is trimmed, `part.marker` (default: the only wheel's centre).
+        #[arg(long, value_name = "PART.MARKER", requires = "trim")]
+        trim_marker: Option<String>,
+    },
+    /// Kinematics and compliance along a load path: table, JSON or CSV, and SVG plots.
+    Kc {
+        file: PathBuf,
+        /// `bump`, `lateral`, `longitudinal` (from `import mcpherson_loads`) or any load set of the model.
+        #[arg(long, value_name = "SWEEP")]
+        sweep: String,
+        /// Write the K&C plots to this SVG file.
+        #[arg(long, value_name = "OUT.svg")]
+        plot: Option<PathBuf>,
+        #[arg(long, value_enum, default_value = "table")]
+        format: OutFormat,
+        /// Write the results here instead of stdout.
+        #[arg(short, long, value_name = "FILE")]
+        output: Option<PathBuf>,
+    },
 }
 
 /// Exit status: 0 success, 1 the input is wrong, 2 usage or I/O error.
@@ -59,6 +113,40 @@ pub fn run(cli: Cli) -> Exit {
     match cli.cmd {
         Cmd::Check { files, format } => check::run(&files, format),
         Cmd::Fmt { files, check } => fmt::run(&files, check),
+        Cmd::Solve {
+            file,
+            loadcases,
+            loads,
+            format,
+            output,
+            trim,
+            trim_case,
+            trim_marker,
+        } => solve::run(&solve::Args {
+            file,
+            loadcases,
+            loads,
+            format,
+            output,
+            trim: trim.map(|param| solve::TrimArgs {
+                param,
+                case: trim_case,
+                marker: trim_marker,
+            }),
+        }),
+        Cmd::Kc {
+            file,
+            sweep,
+            plot,
+            format,
+            output,
+        } => kc::run(&kc::Args {
+            file,
+            sweep,
+            plot,
+            format,
+            output,
+        }),
         Cmd::Locate(args) => locate::run(&args),
     }
 }

@@ -14,10 +14,13 @@ pub mod error;
 pub mod forces;
 pub mod mobility;
 pub mod newton;
+pub mod path;
 pub mod redundancy;
 pub mod report;
 #[cfg(test)]
 mod testkit;
+pub mod trim;
+pub mod warning;
 pub mod wrench;
 
 pub use compliance::compliance;

@@ -1,0 +1,162 @@
+//! Speed of the statics engine on the McPherson benchmark (`docs/performance.md`):
+//! the 13-case thesis table 5-1 from a warm start and from design, the 57-step
+//! bump sweep, and scaling with a synthetic model of N McPherson corners on one
+//! ground. Run with `cargo bench --bench statics`.
+
+use axle::model::{Channel, LoadSet, LoadSetId, LoadTarget, Model, PartId, WheelId};
+use axle::statics::path::{solve_path, solve_path_from};
+use axle::statics::{Problem, State};
+use divan::Bencher;
+
+fn main() {
+    // Newton iterations per case, printed once so the docs can quote them.
+    let (m, set) = mcpherson("thesis_table_5_1");
+    let p = Problem::new(&m).expect("problem");
+    let cold = solve_path(&p, set).expect("solves");
+    let warm = solve_path_from(&p, set, &cold[cold.len() - 1].state).expect("solves");
+    let its = |eqs: &[axle::statics::Equilibrium]| {
+        eqs.iter()
+            .map(|e| e.iterations.to_string())
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    println!(
+        "thesis_table_5_1 iterations per case, from design: {}",
+        its(&cold)
+    );
+    println!(
+        "thesis_table_5_1 iterations per case, warm start:  {}",
+        its(&warm)
+    );
+    divan::main();
+}
+
+/// The McPherson example and one of its load sets.
+fn mcpherson(set: &str) -> (Model, LoadSetId) {
+    let (_, c) =
+        axle::check::check_str("mcpherson.axle", include_str!("../examples/mcpherson.axle"));
+    let m = c.model.expect("the example checks");
+    let id = m.load_set_named(set).expect("stdlib set");
+    (m, id)
+}
+
+/// `n` copies of the McPherson corner on the one ground (elements renamed
+/// `name_k`), loaded by table 5-1 at every wheel at once.
+fn corners(n: usize) -> (Model, LoadSetId) {
+    let (base, set) = mcpherson("thesis_table_5_1");
+    let ground = base.ground().expect("ground");
+    let mut m = base.clone();
+    for k in 1..n {
+        let parts: Vec<PartId> = base
+            .parts
+            .iter()
+            .map(|p| {
+                if p.ground {
+                    return ground;
+                }
+                let mut q = p.clone();
+                q.name = format!("{}_{k}", p.name);
+                m.parts.push(q);
+                PartId(m.parts.len() as u32 - 1)
+            })
+            .collect();
+        let off = m.markers.len() as u32;
+        for mk in &base.markers {
+            let mut c = mk.clone();
+            c.name = format!("{}_{k}", mk.name);
+            c.part = parts[mk.part.index()];
+            m.markers.push(c);
+        }
+        let mid = |id: axle::model::MarkerId| axle::model::MarkerId(id.0 + off);
+        for j in &base.joints {
+            let mut c = j.clone();
+            (c.name, c.i, c.j) = (format!("{}_{k}", j.name), mid(j.i), mid(j.j));
+            m.joints.push(c);
+        }
+        for b in &base.bushings {
+            let mut c = b.clone();
+            (c.name, c.i, c.j) = (format!("{}_{k}", b.name), mid(b.i), mid(b.j));
+            m.bushings.push(c);
+        }
+        for s in &base.springs {
+            let mut c = s.clone();
+            (c.name, c.i, c.j) = (format!("{}_{k}", s.name), mid(s.i), mid(s.j));
+            m.springs.push(c);
+        }
+        for w in &base.wheels {
+            let mut c = w.clone();
+            (c.name, c.part, c.centre, c.contact) = (
+                format!("{}_{k}", w.name),
+                parts[w.part.index()],
+                mid(w.centre),
+                mid(w.contact),
+            );
+            m.wheels.push(c);
+        }
+    }
+    let src = &base.load_sets[set.index()];
+    let channels: Vec<Channel> = (0..m.wheels.len())
+        .flat_map(|w| {
+            src.channels.iter().map(move |c| Channel {
+                target: LoadTarget::Wheel(WheelId(w as u32)),
+                component: c.component,
+            })
+        })
+        .collect();
+    let mut cases = src.cases.clone();
+    for c in &mut cases {
+        c.values = c.values.repeat(m.wheels.len());
+    }
+    m.load_sets = vec![LoadSet {
+        name: "corners".into(),
+        channels,
+        cases,
+        form: src.form.clone(),
+    }];
+    (m, LoadSetId(0))
+}
+
+/// The 13 cases of table 5-1, starting from the last case's equilibrium (the
+/// situation of an identification loop re-solving the same set).
+#[divan::bench]
+fn table_5_1_warm(b: Bencher) {
+    let (m, set) = mcpherson("thesis_table_5_1");
+    let p = Problem::new(&m).expect("problem");
+    let start = solve_path(&p, set)
+        .expect("solves")
+        .pop()
+        .expect("cases")
+        .state;
+    b.bench_local(|| solve_path_from(&p, set, &start).expect("solves"));
+}
+
+/// The 13 cases from the design configuration, Problem compiled each time (what `axle solve` does).
+#[divan::bench]
+fn table_5_1_cold_with_compile(b: Bencher) {
+    let (m, set) = mcpherson("thesis_table_5_1");
+    b.bench_local(|| {
+        let p = Problem::new(&m).expect("problem");
+        solve_path(&p, set).expect("solves")
+    });
+}
+
+/// The 57-step bump sweep from design.
+#[divan::bench]
+fn bump_sweep(b: Bencher) {
+    let (m, set) = mcpherson("bump");
+    let p = Problem::new(&m).expect("problem");
+    b.bench_local(|| solve_path(&p, set).expect("solves"));
+}
+
+/// Table 5-1 at every corner of an N-corner model, warm start.
+#[divan::bench(args = [1, 2, 4, 8])]
+fn corners_table_5_1_warm(b: Bencher, n: usize) {
+    let (m, set) = corners(n);
+    let p = Problem::new(&m).expect("problem");
+    let start = solve_path(&p, set)
+        .expect("solves")
+        .pop()
+        .expect("cases")
+        .state;
+    b.bench_local(|| solve_path_from(&p, set, &start).expect("solves"));
+}

@@ -1,0 +1,93 @@
+//! What `solve` and `kc` share: read and check the model (printing its
+//! diagnostics), pick a load set by name, print diagnostics, write results.
+
+use super::Exit;
+use crate::diagnostic::suggest::did_you_mean;
+use crate::diagnostic::{Diagnostic, render};
+use crate::model::{LoadSetId, Model};
+use crate::source::SourceMap;
+use std::path::Path;
+
+/// A checked model and the sources its diagnostics point into.
+pub struct Loaded {
+    pub sources: SourceMap,
+    pub model: Model,
+}
+
+impl Loaded {
+    /// Prints diagnostics to stderr.
+    pub fn report(&self, diags: &[Diagnostic]) {
+        render::to_stderr(&self.sources, diags);
+    }
+}
+
+/// Reads and checks a model; prints its warnings; `Err` carries the exit status.
+pub fn load_model(path: &Path) -> Result<Loaded, Exit> {
+    let text = super::read(path).ok_or(Exit::Io)?;
+    let mut sources = SourceMap::new();
+    let id = sources.add(path.display().to_string(), text);
+    let checked = crate::check::check_file(&mut sources, id);
+    render::to_stderr(&sources, &checked.problems.list);
+    match checked.model {
+        Some(model) if !checked.problems.has_errors() => Ok(Loaded { sources, model }),
+        _ => Err(Exit::Input),
+    }
+}
+
+/// The set named `name`, or the model's default set. An unknown name gets a
+/// did-you-mean and the list of sets.
+pub fn pick_set(loaded: &Loaded, name: Option<&str>) -> Result<LoadSetId, Diagnostic> {
+    let m = &loaded.model;
+    let names = || m.load_sets.iter().map(|s| s.name.as_str());
+    let listing = || {
+        let all: Vec<&str> = names().collect();
+        if all.is_empty() {
+            "the model has no load-case sets (write a `loads` block, or `import mcpherson_loads`)"
+                .to_string()
+        } else {
+            format!("the model's load-case sets: {}", all.join(", "))
+        }
+    };
+    match name {
+        Some(n) => m.load_set_named(n).ok_or_else(|| {
+            let d = Diagnostic::error("E0801", format!("the model has no load-case set `{n}`"))
+                .note(listing());
+            match did_you_mean(n, names()) {
+                Some(h) => d.hint(h),
+                None if ["bump", "lateral", "longitudinal"].contains(&n) => {
+                    d.hint("the K&C sweeps come with `import mcpherson_loads`")
+                }
+                None => d,
+            }
+        }),
+        None => m.default_load_set.ok_or_else(|| {
+            Diagnostic::error(
+                "E0802",
+                "no load-case set named and the model has no `default loads`",
+            )
+            .note(listing())
+            .hint("name one with --loadcases SET, or give loads with --loads CSV")
+        }),
+    }
+}
+
+/// Writes results to `path`, or stdout.
+pub fn emit(path: Option<&Path>, text: &str) -> Exit {
+    match path {
+        Some(p) => match std::fs::write(p, text) {
+            Ok(()) => Exit::Ok,
+            Err(e) => {
+                eprintln!("error: cannot write {}: {e}", p.display());
+                Exit::Io
+            }
+        },
+        None => {
+            use std::io::Write;
+            let mut out = std::io::stdout().lock();
+            // A closed pipe (`axle solve … | head`) is not an error of the input.
+            let _ = out.write_all(text.as_bytes());
+            let _ = out.flush();
+            Exit::Ok
+        }
+    }
+}

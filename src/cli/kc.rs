@@ -1,0 +1,186 @@
+//! `axle kc FILE --sweep bump|lateral|longitudinal|SET [--plot OUT.svg] [--format …] [-o OUT]`.
+
+use super::input::{emit, load_model, pick_set};
+use super::{Exit, OutFormat};
+use crate::diagnostic::Diagnostic;
+use crate::kc::{KcRow, kc_rows};
+use crate::model::{Component, LoadForm, LoadSet, LoadSetId, Model};
+use crate::output::number::round_json;
+use crate::output::plot::{Sweep, svg};
+use crate::output::{columns, kc_table};
+use crate::statics::path::solve_path;
+use crate::statics::report::angle_warnings;
+use crate::statics::{Equilibrium, Problem, compliance, warning};
+use serde_json::{Value, json};
+use std::path::PathBuf;
+
+pub struct Args {
+    pub file: PathBuf,
+    pub sweep: String,
+    pub plot: Option<PathBuf>,
+    pub format: OutFormat,
+    pub output: Option<PathBuf>,
+}
+
+/// What the plots are drawn against: the swept channel of a sweep, else the
+/// component that varies most; a vertical sweep is a bump sweep.
+fn sweep_kind(set: &LoadSet) -> Sweep {
+    let comp = match &set.form {
+        LoadForm::Sweep { swept, .. } => set.channels.get(*swept).map(|c| c.component),
+        LoadForm::Table => (0..set.channels.len())
+            .map(|i| {
+                let (lo, hi) = set
+                    .cases
+                    .iter()
+                    .map(|c| c.values[i])
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                        (a.min(v), b.max(v))
+                    });
+                (hi - lo, i)
+            })
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+            .and_then(|(_, i)| set.channels.get(i).map(|c| c.component)),
+    };
+    match comp {
+        Some(Component::Fz) | None => Sweep::Bump,
+        Some(c) => Sweep::Force(c as usize),
+    }
+}
+
+const COMPLIANCE_AXES: [&str; 3] = ["x", "y", "z"];
+
+/// The wheel-centre compliance at the first step, per wheel: translational block, mm/kN.
+fn compliances(
+    problem: &Problem,
+    model: &Model,
+    first: &Equilibrium,
+) -> Vec<(String, [[f64; 3]; 3])> {
+    model
+        .wheels
+        .iter()
+        .filter_map(|w| {
+            compliance(problem, first, w.centre).ok().map(|c| {
+                (
+                    w.name.clone(),
+                    [0, 1, 2].map(|i| [0, 1, 2].map(|j| c[i][j] * 1000.0)),
+                )
+            })
+        })
+        .collect()
+}
+
+fn compliance_table(c: &[(String, [[f64; 3]; 3])]) -> String {
+    let mut out = String::new();
+    for (w, m) in c {
+        out += &format!(
+            "\nwheel-centre compliance of {w} at the first step (displacement per force at the centre, mm/kN)\n"
+        );
+        let cols = [
+            columns::col("", "", 0),
+            columns::col("Fx", "", 4),
+            columns::col("Fy", "", 4),
+            columns::col("Fz", "", 4),
+        ];
+        let rows: Vec<Vec<columns::Cell>> = m
+            .iter()
+            .enumerate()
+            .map(|(i, r)| {
+                let mut row = vec![columns::Cell::Text(format!("d{}", COMPLIANCE_AXES[i]))];
+                row.extend(r.map(columns::Cell::Num));
+                row
+            })
+            .collect();
+        out += &columns::render(&cols, &rows, "  ");
+    }
+    out
+}
+
+pub fn run(args: &Args) -> Exit {
+    match kc(args) {
+        Ok(e) | Err(e) => e,
+    }
+}
+
+fn kc(args: &Args) -> Result<Exit, Exit> {
+    let loaded = load_model(&args.file)?;
+    let fail = |d: Diagnostic| {
+        loaded.report(&[d]);
+        Exit::Input
+    };
+    let model = &loaded.model;
+    if model.wheels.is_empty() {
+        return Err(fail(
+            Diagnostic::error(
+                "E0806",
+                "K&C quantities need a wheel, and the model has none",
+            )
+            .hint("declare a `wheel` with a centre and a contact marker"),
+        ));
+    }
+    let set: LoadSetId = pick_set(&loaded, Some(&args.sweep)).map_err(fail)?;
+    let problem = Problem::new(model).map_err(|e| fail(e.to_diagnostic(model)))?;
+    let ls = &model.load_sets[set.index()];
+    let eqs = solve_path(&problem, set).map_err(|e| {
+        let case = ls.cases.get(e.case).map_or("?", |c| c.name.as_str());
+        fail(e.error.to_diagnostic(model).note(format!(
+            "at step {} (`{case}`) of `{}`",
+            e.case + 1,
+            ls.name
+        )))
+    })?;
+    let names: Vec<String> = ls.cases.iter().map(|c| c.name.clone()).collect();
+    let per_case: Vec<_> = eqs
+        .iter()
+        .map(|eq| angle_warnings(model, &eq.state))
+        .collect();
+    loaded.report(&warning::angles(model, &names, &per_case));
+    let states: Vec<_> = eqs.iter().map(|e| &e.state).collect();
+    let rows: Vec<KcRow> = kc_rows(model, set, &states);
+    let comp = eqs
+        .first()
+        .map_or_else(Vec::new, |e| compliances(&problem, model, e));
+
+    if let Some(path) = &args.plot {
+        let title = format!(
+            "{}: K&C, {} ({} steps)",
+            model.name,
+            ls.name,
+            ls.cases.len()
+        );
+        let text = svg(&title, &rows, sweep_kind(ls)).map_err(|e| {
+            eprintln!("error: cannot draw the plots: {e}");
+            Exit::Io
+        })?;
+        if emit(Some(path), &text) != Exit::Ok {
+            return Err(Exit::Io);
+        }
+    }
+    let text = match args.format {
+        OutFormat::Csv => kc_table::csv(&rows),
+        OutFormat::Table => {
+            let head = format!(
+                "model {}, K&C along {}: {} steps\n",
+                model.name,
+                ls.name,
+                ls.cases.len()
+            );
+            format!(
+                "{head}{}{}",
+                kc_table::table(&rows),
+                compliance_table(&comp)
+            )
+        }
+        OutFormat::Json => {
+            let c: serde_json::Map<String, Value> =
+                comp.iter().map(|(w, m)| (w.clone(), json!(m))).collect();
+            let mut v = json!({
+                "model": model.name, "sweep": ls.name, "rows": kc_table::json_rows(&rows),
+                "compliance_mm_per_kn": c,
+                "iterations": eqs.iter().map(|e| e.iterations).collect::<Vec<_>>(),
+            });
+            round_json(&mut v);
+            format!("{v:#}\n")
+        }
+    };
+    Ok(emit(args.output.as_deref(), &text))
+}

@@ -1,0 +1,121 @@
+//! `axle solve FILE [--loadcases SET | --loads CSV] [--format …] [-o OUT] [--trim …]`.
+
+use super::input::{Loaded, emit, load_model, pick_set};
+use super::{Exit, OutFormat};
+use crate::diagnostic::Diagnostic;
+use crate::kc::kc_rows;
+use crate::model::LoadSetId;
+use crate::output::{kc_table, number::round_json, parts_csv, solve_table};
+use crate::statics::path::solve_path;
+use crate::statics::report::{CaseReport, angle_warnings, case_report};
+use crate::statics::{Problem, warning};
+use serde_json::json;
+use std::path::PathBuf;
+
+pub struct TrimArgs {
+    pub param: String,
+    pub case: Option<String>,
+    pub marker: Option<String>,
+}
+
+pub struct Args {
+    pub file: PathBuf,
+    pub loadcases: Option<String>,
+    pub loads: Option<PathBuf>,
+    pub format: OutFormat,
+    pub output: Option<PathBuf>,
+    pub trim: Option<TrimArgs>,
+}
+
+/// The set to solve: from `--loads` (added to the model) or by name.
+fn load_set(loaded: &mut Loaded, args: &Args) -> Result<LoadSetId, Exit> {
+    let Some(path) = &args.loads else {
+        return pick_set(loaded, args.loadcases.as_deref()).map_err(|d| {
+            loaded.report(&[d]);
+            Exit::Input
+        });
+    };
+    let text = super::read(path).ok_or(Exit::Io)?;
+    let name = path
+        .file_stem()
+        .map_or("loads".into(), |s| s.to_string_lossy().into_owned());
+    let file = loaded.sources.add(path.display().to_string(), text.clone());
+    match crate::data::loads::read(&text, &name, &loaded.model) {
+        Ok(set) => {
+            loaded.model.load_sets.push(set);
+            Ok(LoadSetId(loaded.model.load_sets.len() as u32 - 1))
+        }
+        Err(e) => {
+            loaded.report(&[e.to_diagnostic(file)]);
+            Err(Exit::Input)
+        }
+    }
+}
+
+pub fn run(args: &Args) -> Exit {
+    match solve(args) {
+        Ok(e) | Err(e) => e,
+    }
+}
+
+fn solve(args: &Args) -> Result<Exit, Exit> {
+    let mut loaded = load_model(&args.file)?;
+    let set = load_set(&mut loaded, args)?;
+    let trim = match &args.trim {
+        Some(t) => Some(super::trim::run(&mut loaded, set, t)?),
+        None => None,
+    };
+    let model = &loaded.model;
+    let fail = |d: Diagnostic| {
+        loaded.report(&[d]);
+        Exit::Input
+    };
+    let problem = Problem::new(model).map_err(|e| fail(e.to_diagnostic(model)))?;
+    let ls = &model.load_sets[set.index()];
+    let eqs = solve_path(&problem, set).map_err(|e| {
+        let case = ls.cases.get(e.case).map_or("?", |c| c.name.as_str());
+        fail(e.error.to_diagnostic(model).note(format!(
+            "in case `{case}` (step {}) of load set `{}`",
+            e.case + 1,
+            ls.name
+        )))
+    })?;
+    let reports: Vec<CaseReport> = eqs
+        .iter()
+        .zip(&ls.cases)
+        .enumerate()
+        .map(|(k, (eq, c))| case_report(model, &c.name, k + 1, eq))
+        .collect();
+    let names: Vec<String> = ls.cases.iter().map(|c| c.name.clone()).collect();
+    let per_case: Vec<_> = eqs
+        .iter()
+        .map(|eq| angle_warnings(model, &eq.state))
+        .collect();
+    loaded.report(&warning::angles(model, &names, &per_case));
+
+    let text = match args.format {
+        OutFormat::Json => {
+            let mut v = json!({ "model": model.name, "load_set": ls.name, "cases": reports });
+            if let Some(t) = &trim {
+                v["trim"] = t.json.clone();
+            }
+            round_json(&mut v);
+            format!("{v:#}\n")
+        }
+        OutFormat::Table => {
+            let head = trim
+                .as_ref()
+                .map_or(String::new(), |t| format!("{}\n", t.line));
+            format!(
+                "{head}{}",
+                solve_table::cases(&model.name, &ls.name, &reports)
+            )
+        }
+        OutFormat::Csv if model.wheels.is_empty() => parts_csv::csv(&reports),
+        OutFormat::Csv => {
+            let states: Vec<_> = eqs.iter().map(|e| &e.state).collect();
+            kc_table::csv(&kc_rows(model, set, &states))
+        }
+    };
+    Ok(emit(args.output.as_deref(), &text))
+}

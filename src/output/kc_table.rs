@@ -1,0 +1,129 @@
+//! K&C rows as the K&C CSV of `interfaces.md` (the required columns in the
+//! order of the rig files, then the optional ones, then travel and half-track
+//! change), as a terminal table, and as JSON.
+
+use super::columns::{Cell, Col, col, render};
+use super::number::{csv as num, round_json};
+use crate::kc::KcRow;
+use serde_json::{Value, json};
+
+/// The header of the K&C CSV.
+pub const CSV_COLUMNS: [&str; 16] = [
+    "step",
+    "fx",
+    "fy",
+    "fz",
+    "wc_x",
+    "wc_y",
+    "wc_z",
+    "toe_deg",
+    "camber_deg",
+    "loadcase",
+    "mx",
+    "my",
+    "mz",
+    "wheel",
+    "travel_mm",
+    "half_track_change_mm",
+];
+
+/// The K&C CSV: header row, one line per row.
+pub fn csv(rows: &[KcRow]) -> String {
+    let mut out = CSV_COLUMNS.join(",") + "\n";
+    for r in rows {
+        let q = &r.quantities;
+        let f: Vec<String> = [
+            r.step.to_string(),
+            num(r.force[0]),
+            num(r.force[1]),
+            num(r.force[2]),
+            num(q.center[0]),
+            num(q.center[1]),
+            num(q.center[2]),
+            num(q.toe_deg),
+            num(q.camber_deg),
+            r.loadcase.clone(),
+            num(r.torque[0]),
+            num(r.torque[1]),
+            num(r.torque[2]),
+            r.wheel.clone(),
+            num(q.travel_mm),
+            num(q.half_track_change_mm),
+        ]
+        .into();
+        out += &(f.join(",") + "\n");
+    }
+    out
+}
+
+const COLS: [Col; 11] = [
+    col("step", "", 0),
+    col("case", "", 0),
+    col("fx", "N", 0),
+    col("fy", "N", 0),
+    col("fz", "N", 0),
+    col("travel", "mm", 3),
+    col("wc_x", "mm", 3),
+    col("wc_y", "mm", 3),
+    col("toe", "deg", 4),
+    col("camber", "deg", 4),
+    col("d_track", "mm", 3),
+];
+
+/// One table per wheel, rows in path order.
+pub fn table(rows: &[KcRow]) -> String {
+    let mut wheels: Vec<&str> = Vec::new();
+    for r in rows {
+        if !wheels.contains(&r.wheel.as_str()) {
+            wheels.push(&r.wheel);
+        }
+    }
+    let mut out = String::new();
+    for w in wheels {
+        out += &format!("wheel {w} (toe-in +, camber top-out +, d_track = half-track change)\n");
+        let cells: Vec<Vec<Cell>> = rows
+            .iter()
+            .filter(|r| r.wheel == w)
+            .map(|r| {
+                let q = &r.quantities;
+                vec![
+                    Cell::Num(r.step as f64),
+                    Cell::Text(r.loadcase.clone()),
+                    Cell::Num(r.force[0]),
+                    Cell::Num(r.force[1]),
+                    Cell::Num(r.force[2]),
+                    Cell::Num(q.travel_mm),
+                    Cell::Num(q.center[0]),
+                    Cell::Num(q.center[1]),
+                    Cell::Num(q.toe_deg),
+                    Cell::Num(q.camber_deg),
+                    Cell::Num(q.half_track_change_mm),
+                ]
+            })
+            .collect();
+        out += &render(&COLS, &cells, "  ");
+    }
+    out
+}
+
+/// The rows as JSON objects with the CSV's column names.
+pub fn json_rows(rows: &[KcRow]) -> Value {
+    let mut v = Value::Array(
+        rows.iter()
+            .map(|r| {
+                let q = &r.quantities;
+                json!({
+                    "step": r.step, "loadcase": r.loadcase, "wheel": r.wheel,
+                    "fx": r.force[0], "fy": r.force[1], "fz": r.force[2],
+                    "mx": r.torque[0], "my": r.torque[1], "mz": r.torque[2],
+                    "wc_x": q.center[0], "wc_y": q.center[1], "wc_z": q.center[2],
+                    "toe_deg": q.toe_deg, "camber_deg": q.camber_deg,
+                    "travel_mm": q.travel_mm, "half_track_mm": q.half_track_mm,
+                    "half_track_change_mm": q.half_track_change_mm,
+                })
+            })
+            .collect(),
+    );
+    round_json(&mut v);
+    v
+}

@@ -1,0 +1,10 @@
+//! What `solve` and `kc` print: the one place numbers are formatted ([`number`]),
+//! the terminal tables, the K&C CSV, and the SVG plots. Every function returns
+//! a `String`; `cli/` decides where it goes.
+
+pub mod columns;
+pub mod kc_table;
+pub mod number;
+pub mod parts_csv;
+pub mod plot;
+pub mod solve_table;

@@ -1,0 +1,168 @@
+//! K&C plots as one SVG of small multiples, like the thesis figures 2.18 and
+//! 4.11: each panel one quantity against the swept variable, with a title,
+//! axis labels with units, and one line per wheel. SVG only (no system fonts).
+
+use crate::kc::KcRow;
+use plotters::prelude::*;
+
+/// What the panels are plotted against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Sweep {
+    /// Vertical load: everything against wheel travel, with the load as a panel.
+    Bump,
+    /// A force component (0, 1, 2 = fx, fy, fz) or torque (3, 4, 5).
+    Force(usize),
+}
+
+/// A panel: title, y label, and the quantity.
+struct Panel {
+    title: &'static str,
+    y_label: &'static str,
+    y: fn(&KcRow) -> f64,
+}
+
+const TOE: Panel = Panel {
+    title: "Toe angle",
+    y_label: "toe-in [deg]",
+    y: |r| r.quantities.toe_deg,
+};
+const CAMBER: Panel = Panel {
+    title: "Camber angle",
+    y_label: "camber [deg]",
+    y: |r| r.quantities.camber_deg,
+};
+const TRACK: Panel = Panel {
+    title: "Half-track change",
+    y_label: "half-track change [mm]",
+    y: |r| r.quantities.half_track_change_mm,
+};
+const LOAD: Panel = Panel {
+    title: "Wheel load",
+    y_label: "vertical load fz [N]",
+    y: |r| r.force[2],
+};
+
+const FORCE_LABELS: [&str; 6] = [
+    "longitudinal force fx [N]",
+    "lateral force fy [N]",
+    "vertical force fz [N]",
+    "moment mx [N*mm]",
+    "moment my [N*mm]",
+    "moment mz [N*mm]",
+];
+
+/// The panel titles of a sweep, in drawing order.
+pub fn panel_titles(sweep: Sweep) -> Vec<&'static str> {
+    panels(sweep).iter().map(|p| p.title).collect()
+}
+
+fn panels(sweep: Sweep) -> Vec<Panel> {
+    match sweep {
+        Sweep::Bump => vec![TOE, CAMBER, TRACK, LOAD],
+        Sweep::Force(_) => vec![TOE, CAMBER],
+    }
+}
+
+fn x_of(sweep: Sweep, r: &KcRow) -> f64 {
+    match sweep {
+        Sweep::Bump => r.quantities.travel_mm,
+        Sweep::Force(c) if c < 3 => r.force[c],
+        Sweep::Force(c) => r.torque[(c - 3).min(2)],
+    }
+}
+
+/// A range around the values with 5 % margins (a flat curve gets a unit band).
+fn range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    if !lo.is_finite() {
+        return -1.0..1.0;
+    }
+    let pad = if hi - lo > 1e-9 * (1.0 + hi.abs()) {
+        0.05 * (hi - lo)
+    } else {
+        0.5 * (1.0 + hi.abs() * 0.1)
+    };
+    (lo - pad)..(hi + pad)
+}
+
+const COLOURS: [RGBColor; 4] = [
+    RGBColor(0, 90, 180),
+    RGBColor(200, 60, 20),
+    RGBColor(30, 140, 60),
+    RGBColor(120, 60, 160),
+];
+
+/// The SVG text of the plots of a K&C path.
+pub fn svg(title: &str, rows: &[KcRow], sweep: Sweep) -> Result<String, String> {
+    let panels = panels(sweep);
+    let mut wheels: Vec<&str> = Vec::new();
+    for r in rows {
+        if !wheels.contains(&r.wheel.as_str()) {
+            wheels.push(&r.wheel);
+        }
+    }
+    let x_label = match sweep {
+        Sweep::Bump => "wheel travel [mm]",
+        Sweep::Force(c) => FORCE_LABELS[c.min(5)],
+    };
+    let cols = 2u32;
+    let nrows = panels.len().div_ceil(2) as u32;
+    let mut out = String::new();
+    {
+        let root =
+            SVGBackend::with_string(&mut out, (cols * 460, nrows * 340 + 40)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let root = root
+            .titled(title, ("sans-serif", 22))
+            .map_err(|e| e.to_string())?;
+        let areas = root.split_evenly((nrows as usize, cols as usize));
+        let xr = range(rows.iter().map(|r| x_of(sweep, r)));
+        for (panel, area) in panels.iter().zip(areas.iter()) {
+            let yr = range(rows.iter().map(panel.y));
+            let mut chart = ChartBuilder::on(area)
+                .caption(panel.title, ("sans-serif", 18))
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(60)
+                .build_cartesian_2d(xr.clone(), yr)
+                .map_err(|e| e.to_string())?;
+            chart
+                .configure_mesh()
+                .x_desc(x_label)
+                .y_desc(panel.y_label)
+                .light_line_style(RGBColor(235, 235, 235))
+                .draw()
+                .map_err(|e| e.to_string())?;
+            for (k, w) in wheels.iter().enumerate() {
+                let colour = COLOURS[k % COLOURS.len()];
+                let pts: Vec<(f64, f64)> = rows
+                    .iter()
+                    .filter(|r| r.wheel == *w)
+                    .map(|r| (x_of(sweep, r), (panel.y)(r)))
+                    .collect();
+                let series = chart
+                    .draw_series(LineSeries::new(pts, colour.stroke_width(2)))
+                    .map_err(|e| e.to_string())?;
+                if wheels.len() > 1 {
+                    series
+                        .label(*w)
+                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour));
+                }
+            }
+            if wheels.len() > 1 {
+                chart
+                    .configure_series_labels()
+                    .background_style(WHITE)
+                    .border_style(BLACK)
+                    .draw()
+                    .map_err(|e| e.to_string())?;
+            }
+        }
+        root.present().map_err(|e| e.to_string())?;
+    }
+    Ok(out)
+}

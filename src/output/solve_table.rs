@@ -1,0 +1,135 @@
+//! `solve --format table`: one block per case, for an engineer at a terminal:
+//! the wheels first (what the K&C rig measures), then the bushings (where the
+//! compliance comes from), springs, and the part displacements.
+
+use super::columns::{Cell, Col, col, render};
+use crate::statics::report::CaseReport;
+
+const WHEEL: [Col; 8] = [
+    col("wheel", "", 0),
+    col("wc_x", "mm", 3),
+    col("wc_y", "mm", 3),
+    col("wc_z", "mm", 3),
+    col("travel", "mm", 3),
+    col("toe", "deg", 4),
+    col("camber", "deg", 4),
+    col("half_track", "mm", 3),
+];
+
+const BUSHING: [Col; 13] = [
+    col("bushing", "", 0),
+    col("tx", "mm", 4),
+    col("ty", "mm", 4),
+    col("tz", "mm", 4),
+    col("ax", "deg", 4),
+    col("ay", "deg", 4),
+    col("az", "deg", 4),
+    col("Fx", "N", 1),
+    col("Fy", "N", 1),
+    col("Fz", "N", 1),
+    col("Tx", "N*mm", 0),
+    col("Ty", "N*mm", 0),
+    col("Tz", "N*mm", 0),
+];
+
+const SPRING: [Col; 3] = [
+    col("spring", "", 0),
+    col("length", "mm", 3),
+    col("force", "N", 1),
+];
+
+const PART: [Col; 5] = [
+    col("part", "", 0),
+    col("dx", "mm", 3),
+    col("dy", "mm", 3),
+    col("dz", "mm", 3),
+    col("rotation", "deg", 4),
+];
+
+fn text(s: &str) -> Cell {
+    Cell::Text(s.to_string())
+}
+
+/// The table of one case.
+pub fn case(c: &CaseReport) -> String {
+    let sub = if c.substeps > 0 {
+        format!(", {} load sub-steps", c.substeps)
+    } else {
+        String::new()
+    };
+    let mut out = format!(
+        "case {} (step {}): converged in {} Newton iterations{sub}\n",
+        c.name, c.step, c.iterations
+    );
+    if !c.wheels.is_empty() {
+        let rows: Vec<Vec<Cell>> = c
+            .wheels
+            .iter()
+            .map(|(n, q)| {
+                let mut r = vec![text(n)];
+                r.extend(q.center.map(Cell::Num));
+                r.extend([q.travel_mm, q.toe_deg, q.camber_deg, q.half_track_mm].map(Cell::Num));
+                r
+            })
+            .collect();
+        out += "\n";
+        out += &render(&WHEEL, &rows, "  ");
+    }
+    if !c.bushings.is_empty() {
+        let rows: Vec<Vec<Cell>> = c
+            .bushings
+            .iter()
+            .map(|(n, b)| {
+                let mut r = vec![text(n)];
+                r.extend(b.deformation.map(Cell::Num));
+                r.extend(b.force.map(Cell::Num));
+                r
+            })
+            .collect();
+        out += "\n";
+        out += &render(&BUSHING, &rows, "  ");
+        out += "  (deformation of I from J and force on I, J axes; angles are projected)\n";
+    }
+    if !c.springs.is_empty() {
+        let rows: Vec<Vec<Cell>> = c
+            .springs
+            .iter()
+            .map(|(n, s)| vec![text(n), Cell::Num(s.length), Cell::Num(s.force)])
+            .collect();
+        out += "\n";
+        out += &render(&SPRING, &rows, "  ");
+        out += "  (force: tension +)\n";
+    }
+    if !c.parts.is_empty() {
+        let rows: Vec<Vec<Cell>> = c
+            .parts
+            .iter()
+            .map(|(n, p)| {
+                let r = &p.rotation;
+                let cos = ((r[0][0] + r[1][1] + r[2][2] - 1.0) / 2.0).clamp(-1.0, 1.0);
+                let mut row = vec![text(n)];
+                row.extend(p.position.map(Cell::Num));
+                row.push(Cell::Num(cos.acos().to_degrees()));
+                row
+            })
+            .collect();
+        out += "\n";
+        out += &render(&PART, &rows, "  ");
+        out += "  (part frame from its design pose: translation and rotation angle)\n";
+    }
+    out
+}
+
+/// The tables of all cases, separated by blank lines.
+pub fn cases(model: &str, set: &str, cases: &[CaseReport]) -> String {
+    let n = cases.len();
+    let mut out = format!(
+        "model {model}, load set {set}: {n} case{}\n",
+        if n == 1 { "" } else { "s" }
+    );
+    for c in cases {
+        out += "\n";
+        out += &case(c);
+    }
+    out
+}

@@ -1,0 +1,46 @@
+//! Warnings of a solve, worded once: bushings driven beyond the range of
+//! projected angles. (Redundant constraints are reported once, by the checker's
+//! mobility analysis.)
+
+use super::report::{ANGLE_LIMIT_DEG, AngleWarning};
+use crate::diagnostic::Diagnostic;
+use crate::model::{ElementId, Model};
+
+/// One warning per bushing whose projected angles leave ±15° in some case:
+/// the largest angle and the cases where it happens. `per_case[k]` holds the
+/// warnings of case `k` named `names[k]`.
+pub fn angles(model: &Model, names: &[String], per_case: &[Vec<AngleWarning>]) -> Vec<Diagnostic> {
+    // (bushing, worst angle name, worst value, cases) in bushing order.
+    let mut worst: std::collections::BTreeMap<ElementId, (&'static str, f64, Vec<&str>)> =
+        Default::default();
+    for (k, ws) in per_case.iter().enumerate() {
+        for w in ws {
+            let e = worst.entry(w.bushing).or_insert((w.angle, 0.0, Vec::new()));
+            if w.value_deg.abs() > e.1.abs() {
+                e.0 = w.angle;
+                e.1 = w.value_deg;
+            }
+            let case = names.get(k).map_or("?", String::as_str);
+            if !e.2.contains(&case) {
+                e.2.push(case);
+            }
+        }
+    }
+    worst
+        .into_iter()
+        .map(|(id, (angle, value, cases))| {
+            let shown: Vec<&str> = cases.iter().take(6).copied().collect();
+            let more = if cases.len() > shown.len() { format!(" and {} more", cases.len() - shown.len()) } else { String::new() };
+            Diagnostic::warning(
+                "W0602",
+                format!(
+                    "{} turns beyond ±{ANGLE_LIMIT_DEG}° ({angle} = {value:.2}° at most), where projected angles lose accuracy",
+                    model.describe(id)
+                ),
+            )
+            .secondary_opt(model.origins.get(id), "this bushing")
+            .note(format!("in case{} {}{more}", if cases.len() == 1 { "" } else { "s" }, shown.join(", ")))
+            .hint("check the bushing's orientation (its J axes) and the size of the load")
+        })
+        .collect()
+}
