@@ -22,3 +22,5 @@ pub mod check;
 pub mod stdlib;
 pub mod cli;
 pub mod fmt;
+pub mod emit;
+pub mod import;
