@@ -9,18 +9,18 @@
 //!
 //! Only `main.rs` and `cli/` touch the filesystem.
 
+pub mod check;
+pub mod cli;
+pub mod diagnostic;
+pub mod emit;
+pub mod fmt;
 pub mod geom;
+pub mod import;
 pub mod kc;
 pub mod model;
 pub mod source;
 pub mod span;
 pub mod statics;
-pub mod units;
-pub mod diagnostic;
-pub mod syntax;
-pub mod check;
 pub mod stdlib;
-pub mod cli;
-pub mod fmt;
-pub mod emit;
-pub mod import;
+pub mod syntax;
+pub mod units;

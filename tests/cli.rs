@@ -17,23 +17,39 @@ fn axle(args: &[&str]) -> (i32, String, String) {
 
 #[test]
 fn check_passes_clean_examples_with_exit_0() {
-    let (code, stdout, stderr) = axle(&["check", "examples/mcpherson.axle", "examples/four_bar.axle"]);
+    let (code, stdout, stderr) =
+        axle(&["check", "examples/mcpherson.axle", "examples/four_bar.axle"]);
     assert_eq!(code, 0, "{stderr}");
     assert!(stdout.is_empty() && stderr.is_empty());
 }
 
 #[test]
 fn check_reports_every_error_with_exit_1() {
-    let (code, _, stderr) = axle(&["check", "tests/fail/units/angle_in_position.axle", "tests/fail/names/unknown_part.axle"]);
+    let (code, _, stderr) = axle(&[
+        "check",
+        "tests/fail/units/angle_in_position.axle",
+        "tests/fail/names/unknown_part.axle",
+    ]);
     assert_eq!(code, 1);
-    assert!(stderr.contains("tests/fail/units/angle_in_position.axle:8:31"), "{stderr}");
-    assert!(stderr.contains("tests/fail/names/unknown_part.axle:13:"), "{stderr}");
+    assert!(
+        stderr.contains("tests/fail/units/angle_in_position.axle:8:31"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("tests/fail/names/unknown_part.axle:13:"),
+        "{stderr}"
+    );
     assert!(!stderr.contains("panicked"));
 }
 
 #[test]
 fn check_json_lists_diagnostics_with_positions() {
-    let (code, stdout, _) = axle(&["check", "--format", "json", "tests/fail/names/unknown_part.axle"]);
+    let (code, stdout, _) = axle(&[
+        "check",
+        "--format",
+        "json",
+        "tests/fail/names/unknown_part.axle",
+    ]);
     assert_eq!(code, 1);
     let v: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON document");
     let d = &v["diagnostics"][0];
@@ -62,7 +78,12 @@ fn missing_file_and_bad_usage_exit_2() {
 
 #[test]
 fn fmt_check_accepts_examples_and_rejects_messy_files() {
-    let (code, _, stderr) = axle(&["fmt", "--check", "examples/mcpherson.axle", "stdlib/mcpherson_loads.axle"]);
+    let (code, _, stderr) = axle(&[
+        "fmt",
+        "--check",
+        "examples/mcpherson.axle",
+        "stdlib/mcpherson_loads.axle",
+    ]);
     assert_eq!(code, 0, "{stderr}");
     let dir = std::env::temp_dir().join(format!("axle-fmt-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
@@ -73,7 +94,10 @@ fn fmt_check_accepts_examples_and_rejects_messy_files() {
     assert_eq!(code, 1, "{stderr}");
     let (code, _, _) = axle(&["fmt", &f]);
     assert_eq!(code, 0);
-    assert_eq!(std::fs::read_to_string(&file).expect("read"), "model m\n\nground g {\n    marker o at (0, 0, 0) mm\n}\n");
+    assert_eq!(
+        std::fs::read_to_string(&file).expect("read"),
+        "model m\n\nground g {\n    marker o at (0, 0, 0) mm\n}\n"
+    );
     let (code, _, _) = axle(&["fmt", "--check", &f]);
     assert_eq!(code, 0);
     let _ = std::fs::remove_dir_all(&dir);

@@ -13,12 +13,71 @@ const SEEDS: &[&str] = &[
 ];
 
 const TOKENS: &[&str] = &[
-    "part", "ground", "marker", "landmark", "joint", "bushing", "spring", "stop", "wheel",
-    "loads", "table", "sweep", "param", "unknown", "import", "default", "model", "at", "euler",
-    "z", "x", "i", "j", "k", "kt", "k_x", "law", "by", "->", "{", "}", "(", ")", "[", "]", ",",
-    ".", "=", "-", "+", "*", "/", "^", "_", "\n", " ", "//c\n", "0", "1.5", "-2e3", "1e400",
-    "mm", "N/mm", "N*mm/deg", "deg", "sqrt(", "chassis.B", "spherical", "compression", "fz",
-    "left.fz", "a.b.fx", "\u{e9}", "\t", "0.",
+    "part",
+    "ground",
+    "marker",
+    "landmark",
+    "joint",
+    "bushing",
+    "spring",
+    "stop",
+    "wheel",
+    "loads",
+    "table",
+    "sweep",
+    "param",
+    "unknown",
+    "import",
+    "default",
+    "model",
+    "at",
+    "euler",
+    "z",
+    "x",
+    "i",
+    "j",
+    "k",
+    "kt",
+    "k_x",
+    "law",
+    "by",
+    "->",
+    "{",
+    "}",
+    "(",
+    ")",
+    "[",
+    "]",
+    ",",
+    ".",
+    "=",
+    "-",
+    "+",
+    "*",
+    "/",
+    "^",
+    "_",
+    "\n",
+    " ",
+    "//c\n",
+    "0",
+    "1.5",
+    "-2e3",
+    "1e400",
+    "mm",
+    "N/mm",
+    "N*mm/deg",
+    "deg",
+    "sqrt(",
+    "chassis.B",
+    "spherical",
+    "compression",
+    "fz",
+    "left.fz",
+    "a.b.fx",
+    "\u{e9}",
+    "\t",
+    "0.",
 ];
 
 fn token_soup() -> impl Strategy<Value = String> {
@@ -91,8 +150,14 @@ fn exercise(src: &str) {
     if let Ok(once) = axle::fmt::format_source(FileId(0), src) {
         let twice = axle::fmt::format_source(FileId(0), &once).expect("formatted text parses");
         assert_eq!(once, twice, "formatting is not idempotent for:\n{src}");
-        let before: Vec<String> = axle::syntax::trivia::comments(src).into_iter().map(|c| c.text).collect();
-        let after: Vec<String> = axle::syntax::trivia::comments(&once).into_iter().map(|c| c.text).collect();
+        let before: Vec<String> = axle::syntax::trivia::comments(src)
+            .into_iter()
+            .map(|c| c.text)
+            .collect();
+        let after: Vec<String> = axle::syntax::trivia::comments(&once)
+            .into_iter()
+            .map(|c| c.text)
+            .collect();
         assert_eq!(before, after, "comments lost for:\n{src}");
     }
 }

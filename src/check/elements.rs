@@ -1,8 +1,8 @@
 //! Joints, bushings, springs, stops and wheels.
 
+use super::Checker;
 use super::error;
 use super::props::Props;
-use super::Checker;
 use crate::diagnostic::Diagnostic;
 use crate::model::*;
 use crate::span::Span;
@@ -12,8 +12,26 @@ use std::collections::BTreeMap;
 
 const JOINT_PROPS: &[&str] = &["i", "j"];
 const BUSHING_PROPS: &[&str] = &[
-    "i", "j", "k", "kt", "k_radial", "k_axial", "kt_radial", "kt_axial", "k_x", "k_y", "k_z",
-    "kt_x", "kt_y", "kt_z", "k3", "kt3", "offset", "angle_offset", "preload", "torque_preload",
+    "i",
+    "j",
+    "k",
+    "kt",
+    "k_radial",
+    "k_axial",
+    "kt_radial",
+    "kt_axial",
+    "k_x",
+    "k_y",
+    "k_z",
+    "kt_x",
+    "kt_y",
+    "kt_z",
+    "k3",
+    "kt3",
+    "offset",
+    "angle_offset",
+    "preload",
+    "torque_preload",
 ];
 const SPRING_PROPS: &[&str] = &["i", "j", "k", "free_length", "preload", "law"];
 const STOP_PROPS: &[&str] = &["i", "j", "contact_length", "k", "poly", "law"];
@@ -23,9 +41,16 @@ impl Checker {
     pub(super) fn elements(&mut self, ast: &File) {
         let mut names: BTreeMap<String, Span> = BTreeMap::new();
         for item in &ast.items {
-            let ItemKind::Element(e) = &item.kind else { continue };
+            let ItemKind::Element(e) = &item.kind else {
+                continue;
+            };
             if let Some(first) = names.get(&e.name.name) {
-                self.problems.push(error::duplicate("element", &e.name.name, e.name.span, *first));
+                self.problems.push(error::duplicate(
+                    "element",
+                    &e.name.name,
+                    e.name.span,
+                    *first,
+                ));
                 continue;
             }
             names.insert(e.name.name.clone(), e.name.span);
@@ -39,9 +64,16 @@ impl Checker {
             if e.keyword != ElementKw::Joint && e.keyword != ElementKw::Stop {
                 if let Some(k) = &e.kind {
                     self.problems.push(
-                        Diagnostic::error("E0401", format!("a {} takes no kind word", e.keyword.keyword()))
-                            .primary(k.span, "unexpected word")
-                            .hint(format!("write `{} {} {{`", e.keyword.keyword(), e.name.name)),
+                        Diagnostic::error(
+                            "E0401",
+                            format!("a {} takes no kind word", e.keyword.keyword()),
+                        )
+                        .primary(k.span, "unexpected word")
+                        .hint(format!(
+                            "write `{} {} {{`",
+                            e.keyword.keyword(),
+                            e.name.name
+                        )),
                     );
                 }
             }
@@ -55,9 +87,19 @@ impl Checker {
         let (i, j) = (i?, j?);
         let (pi, pj) = (self.model.marker(i).part, self.model.marker(j).part);
         if pi == pj {
-            let span = |k: &str| props.get(k).map_or(props.decl.name.span, |p| p.value.span());
+            let span = |k: &str| {
+                props
+                    .get(k)
+                    .map_or(props.decl.name.span, |p| p.value.span())
+            };
             let part = self.model.part(pi).name.clone();
-            self.problems.push(error::same_part(props.element, &props.decl.name.name, &part, span("i"), span("j")));
+            self.problems.push(error::same_part(
+                props.element,
+                &props.decl.name.name,
+                &part,
+                span("i"),
+                span("j"),
+            ));
             return None;
         }
         Some((i, j))
@@ -85,17 +127,38 @@ impl Checker {
             }
         };
         let ij = self.ij(&props);
-        let (Some(kind), Some((i, j))) = (kind, ij) else { return };
+        let (Some(kind), Some((i, j))) = (kind, ij) else {
+            return;
+        };
         let id = JointId(self.model.joints.len() as u32);
         self.model.origins.insert(ElementId::Joint(id), e.name.span);
-        self.model.joints.push(Joint { name: e.name.name.clone(), kind, i, j });
+        self.model.joints.push(Joint {
+            name: e.name.name.clone(),
+            kind,
+            i,
+            j,
+        });
     }
 
     fn bushing(&mut self, e: &ElementDecl) {
         let props = self.props("bushing", e, BUSHING_PROPS);
         let ij = self.ij(&props);
-        let translational = self.axis_laws(&props, "k", Dim::STIFFNESS, Dim::LENGTH, Dim::FORCE, "(310, 2400, 180) N/mm");
-        let rotational = self.axis_laws(&props, "kt", Dim::ROT_STIFFNESS, Dim::ANGLE, Dim::TORQUE, "(4500, 1100, 1600) N*mm/deg");
+        let translational = self.axis_laws(
+            &props,
+            "k",
+            Dim::STIFFNESS,
+            Dim::LENGTH,
+            Dim::FORCE,
+            "(310, 2400, 180) N/mm",
+        );
+        let rotational = self.axis_laws(
+            &props,
+            "kt",
+            Dim::ROT_STIFFNESS,
+            Dim::ANGLE,
+            Dim::TORQUE,
+            "(4500, 1100, 1600) N*mm/deg",
+        );
         let vec_or_zero = |c: &mut Self, key: &str, dim: Dim, ex: &str| -> Option<Val3> {
             match props.get(key) {
                 Some(p) => c.prop_vector(p, dim, ex),
@@ -108,31 +171,53 @@ impl Checker {
         let angle_offset = vec_or_zero(self, "angle_offset", Dim::ANGLE, "(0, 0, 2) deg");
         let preload = vec_or_zero(self, "preload", Dim::FORCE, "(0, 0, 100) N");
         let torque_preload = vec_or_zero(self, "torque_preload", Dim::TORQUE, "(0, 0, 1000) N*mm");
-        let (Some((i, j)), Some(mut translational), Some(mut rotational)) = (ij, translational, rotational) else { return };
-        let (Some(k3), Some(kt3), Some(offset), Some(angle_offset), Some(preload), Some(torque_preload)) =
-            (k3, kt3, offset, angle_offset, preload, torque_preload)
+        let (Some((i, j)), Some(mut translational), Some(mut rotational)) =
+            (ij, translational, rotational)
         else {
             return;
         };
-        for (laws, cubic, key) in [(&mut translational, k3, "k3"), (&mut rotational, kt3, "kt3")] {
+        let (
+            Some(k3),
+            Some(kt3),
+            Some(offset),
+            Some(angle_offset),
+            Some(preload),
+            Some(torque_preload),
+        ) = (k3, kt3, offset, angle_offset, preload, torque_preload)
+        else {
+            return;
+        };
+        for (laws, cubic, key) in [
+            (&mut translational, k3, "k3"),
+            (&mut rotational, kt3, "kt3"),
+        ] {
             for (law, c) in laws.iter_mut().zip(cubic) {
                 match law {
                     AxisLaw::Linear { k3, .. } => *k3 = c,
                     AxisLaw::Table(_) if c.value != 0.0 => {
                         let span = props.get(key).map_or(e.name.span, |p| p.value.span());
                         self.problems.push(
-                            Diagnostic::error("E0403", "a cubic term cannot be added to a table law")
-                                .primary(span, "cubic term on an axis that has a table")
-                                .hint("put the stiffening into the table itself"),
+                            Diagnostic::error(
+                                "E0403",
+                                "a cubic term cannot be added to a table law",
+                            )
+                            .primary(span, "cubic term on an axis that has a table")
+                            .hint("put the stiffening into the table itself"),
                         );
                     }
                     AxisLaw::Table(_) => {}
                 }
             }
         }
-        let symmetry = if props.has("k_radial") || props.has("kt_radial") { Symmetry::Axisymmetric } else { Symmetry::General };
+        let symmetry = if props.has("k_radial") || props.has("kt_radial") {
+            Symmetry::Axisymmetric
+        } else {
+            Symmetry::General
+        };
         let id = BushingId(self.model.bushings.len() as u32);
-        self.model.origins.insert(ElementId::Bushing(id), e.name.span);
+        self.model
+            .origins
+            .insert(ElementId::Bushing(id), e.name.span);
         self.model.bushings.push(Bushing {
             name: e.name.name.clone(),
             i,
@@ -150,15 +235,31 @@ impl Checker {
     /// The three laws of a bushing family (`k` or `kt`): from the vector, the
     /// radial/axial shorthand or per-axis properties, each axis set exactly once.
     #[allow(clippy::too_many_arguments)]
-    fn axis_laws(&mut self, props: &Props, base: &str, dim: Dim, x: Dim, y: Dim, example: &str) -> Option<[AxisLaw; 3]> {
+    fn axis_laws(
+        &mut self,
+        props: &Props,
+        base: &str,
+        dim: Dim,
+        x: Dim,
+        y: Dim,
+        example: &str,
+    ) -> Option<[AxisLaw; 3]> {
         let mut laws: [Option<(AxisLaw, Span, String)>; 3] = [None, None, None];
         let mut ok = true;
-        let set = |c: &mut Self, axis: usize, law: AxisLaw, span: Span, key: &str, laws: &mut [Option<(AxisLaw, Span, String)>; 3]| {
+        let set = |c: &mut Self,
+                   axis: usize,
+                   law: AxisLaw,
+                   span: Span,
+                   key: &str,
+                   laws: &mut [Option<(AxisLaw, Span, String)>; 3]| {
             if let Some((_, first, by)) = &laws[axis] {
                 c.problems.push(
-                    Diagnostic::error("E0404", format!("the {base} along {} is given twice", ["x", "y", "z"][axis]))
-                        .primary(span, format!("`{key}` sets it"))
-                        .secondary(*first, format!("`{by}` already set it")),
+                    Diagnostic::error(
+                        "E0404",
+                        format!("the {base} along {} is given twice", ["x", "y", "z"][axis]),
+                    )
+                    .primary(span, format!("`{key}` sets it"))
+                    .secondary(*first, format!("`{by}` already set it")),
                 );
                 return false;
             }
@@ -170,8 +271,20 @@ impl Checker {
             match self.prop_vector(p, dim, example) {
                 Some(v) => {
                     for (a, k) in v.iter().enumerate() {
-                        let k = self.non_negative(*k, props, &format!("{base} along {}", ["x", "y", "z"][a]), p.value.span());
-                        ok &= set(self, a, AxisLaw::Linear { k, k3: Val::ZERO }, p.key.span, base, &mut laws);
+                        let k = self.non_negative(
+                            *k,
+                            props,
+                            &format!("{base} along {}", ["x", "y", "z"][a]),
+                            p.value.span(),
+                        );
+                        ok &= set(
+                            self,
+                            a,
+                            AxisLaw::Linear { k, k3: Val::ZERO },
+                            p.key.span,
+                            base,
+                            &mut laws,
+                        );
                     }
                 }
                 None => ok = false,
@@ -184,7 +297,14 @@ impl Checker {
                     Some(k) => {
                         let k = self.non_negative(k, props, &key, p.value.span());
                         for &a in axes {
-                            ok &= set(self, a, AxisLaw::Linear { k, k3: Val::ZERO }, p.key.span, &key, &mut laws);
+                            ok &= set(
+                                self,
+                                a,
+                                AxisLaw::Linear { k, k3: Val::ZERO },
+                                p.key.span,
+                                &key,
+                                &mut laws,
+                            );
                         }
                     }
                     None => ok = false,
@@ -206,7 +326,10 @@ impl Checker {
                 None => ok = false,
             }
         }
-        let missing: Vec<&str> = (0..3).filter(|&a| laws[a].is_none()).map(|a| ["x", "y", "z"][a]).collect();
+        let missing: Vec<&str> = (0..3)
+            .filter(|&a| laws[a].is_none())
+            .map(|a| ["x", "y", "z"][a])
+            .collect();
         if !missing.is_empty() && props.had_unknown {
             return None;
         }
@@ -232,47 +355,89 @@ impl Checker {
             for other in ["k", "free_length", "preload"] {
                 if let Some(o) = props.get(other) {
                     self.problems.push(
-                        Diagnostic::error("E0406", format!("spring `{}` has both a table law and `{other}`", e.name.name))
-                            .primary(o.key.span, "not used with a table law")
-                            .secondary(p.key.span, "the table law"),
+                        Diagnostic::error(
+                            "E0406",
+                            format!(
+                                "spring `{}` has both a table law and `{other}`",
+                                e.name.name
+                            ),
+                        )
+                        .primary(o.key.span, "not used with a table law")
+                        .secondary(p.key.span, "the table law"),
                     );
                 }
             }
-            self.prop_table(p, Dim::LENGTH, Dim::FORCE, false).map(SpringLaw::Table)
+            self.prop_table(p, Dim::LENGTH, Dim::FORCE, false)
+                .map(SpringLaw::Table)
         } else {
             let k = match props.get("k") {
-                Some(p) => self.prop_scalar(p, Dim::STIFFNESS, "30 N/mm").map(|k| self.non_negative(k, &props, "k", p.value.span())),
+                Some(p) => self
+                    .prop_scalar(p, Dim::STIFFNESS, "30 N/mm")
+                    .map(|k| self.non_negative(k, &props, "k", p.value.span())),
                 None => {
-                    self.problems.push(error::missing_property("spring", &e.name.name, "k", e.name.span, "k 30 N/mm"));
+                    self.problems.push(error::missing_property(
+                        "spring",
+                        &e.name.name,
+                        "k",
+                        e.name.span,
+                        "k 30 N/mm",
+                    ));
                     None
                 }
             };
-            let free_length = props.get("free_length").map(|p| self.prop_scalar(p, Dim::LENGTH, "290 mm"));
-            let preload = props.get("preload").map(|p| self.prop_scalar(p, Dim::FORCE, "4800 N"));
+            let free_length = props
+                .get("free_length")
+                .map(|p| self.prop_scalar(p, Dim::LENGTH, "290 mm"));
+            let preload = props
+                .get("preload")
+                .map(|p| self.prop_scalar(p, Dim::FORCE, "4800 N"));
             if free_length.is_none() && preload.is_none() {
-                self.problems.push(error::missing_property("spring", &e.name.name, "free_length", e.name.span, "free_length 290 mm"));
+                self.problems.push(error::missing_property(
+                    "spring",
+                    &e.name.name,
+                    "free_length",
+                    e.name.span,
+                    "free_length 290 mm",
+                ));
                 return;
             }
-            let (Some(k), Some((i, j))) = (k, ij) else { return };
+            let (Some(k), Some((i, j))) = (k, ij) else {
+                return;
+            };
             let free_length = match free_length {
                 Some(v) => match v {
                     Some(v) => v,
                     None => return,
                 },
                 // Only a preload: it is the force at the design length.
-                None => Val::lit((self.model.marker(i).origin() - self.model.marker(j).origin()).norm()),
+                None => {
+                    Val::lit((self.model.marker(i).origin() - self.model.marker(j).origin()).norm())
+                }
             };
             let preload = match preload {
                 Some(Some(v)) => v,
                 Some(None) => return,
                 None => Val::ZERO,
             };
-            Some(SpringLaw::Linear { k, free_length, preload })
+            Some(SpringLaw::Linear {
+                k,
+                free_length,
+                preload,
+            })
         };
-        let (Some((i, j)), Some(law)) = (ij, law) else { return };
+        let (Some((i, j)), Some(law)) = (ij, law) else {
+            return;
+        };
         let id = SpringId(self.model.springs.len() as u32);
-        self.model.origins.insert(ElementId::Spring(id), e.name.span);
-        self.model.springs.push(Spring { name: e.name.name.clone(), i, j, law });
+        self.model
+            .origins
+            .insert(ElementId::Spring(id), e.name.span);
+        self.model.springs.push(Spring {
+            name: e.name.name.clone(),
+            i,
+            j,
+            law,
+        });
     }
 
     fn stop(&mut self, e: &ElementDecl) {
@@ -281,14 +446,22 @@ impl Checker {
             Some((_, "compression")) => Some(StopKind::Compression),
             Some((_, "rebound")) => Some(StopKind::Rebound),
             Some((k, _)) => {
-                self.problems.push(error::unknown_name("stop kind", &k.name, k.span, ["compression", "rebound"]));
+                self.problems.push(error::unknown_name(
+                    "stop kind",
+                    &k.name,
+                    k.span,
+                    ["compression", "rebound"],
+                ));
                 None
             }
             None => {
                 self.problems.push(
                     Diagnostic::error("E0407", format!("stop `{}` has no kind", e.name.name))
                         .primary(e.name.span, "compression or rebound?")
-                        .hint(format!("write `stop {} compression {{` (bump stop) or `rebound`", e.name.name)),
+                        .hint(format!(
+                            "write `stop {} compression {{` (bump stop) or `rebound`",
+                            e.name.name
+                        )),
                 );
                 None
             }
@@ -297,13 +470,25 @@ impl Checker {
         let contact = match props.get("contact_length") {
             Some(p) => self.prop_scalar(p, Dim::LENGTH, "120 mm"),
             None => {
-                self.problems.push(error::missing_property("stop", &e.name.name, "contact_length", e.name.span, "contact_length 120 mm"));
+                self.problems.push(error::missing_property(
+                    "stop",
+                    &e.name.name,
+                    "contact_length",
+                    e.name.span,
+                    "contact_length 120 mm",
+                ));
                 None
             }
         };
-        let laws: Vec<&str> = ["k", "poly", "law"].into_iter().filter(|k| props.has(k)).collect();
+        let laws: Vec<&str> = ["k", "poly", "law"]
+            .into_iter()
+            .filter(|k| props.has(k))
+            .collect();
         if laws.len() != 1 {
-            let span = laws.get(1).and_then(|k| props.get(k)).map_or(e.name.span, |p| p.key.span);
+            let span = laws
+                .get(1)
+                .and_then(|k| props.get(k))
+                .map_or(e.name.span, |p| p.key.span);
             self.problems.push(
                 Diagnostic::error("E0408", format!("stop `{}` needs exactly one law: `k`, `poly` or `law`", e.name.name))
                     .primary(span, if laws.is_empty() { "no law" } else { "a second law" })
@@ -313,38 +498,84 @@ impl Checker {
         }
         let law = match laws[0] {
             "k" => props.get("k").and_then(|p| {
-                self.prop_scalar(p, Dim::STIFFNESS, "500 N/mm").map(|k| StopLaw::Polynomial(vec![self.non_negative(k, &props, "k", p.value.span())]))
+                self.prop_scalar(p, Dim::STIFFNESS, "500 N/mm").map(|k| {
+                    StopLaw::Polynomial(vec![self.non_negative(k, &props, "k", p.value.span())])
+                })
             }),
             "poly" => props.get("poly").and_then(|p| {
-                self.prop_list(p, |n| Dim::new(-(n as i8) - 1, 1, 0), "[500 N/mm, 20 N/mm^2]").map(StopLaw::Polynomial)
+                self.prop_list(
+                    p,
+                    |n| Dim::new(-(n as i8) - 1, 1, 0),
+                    "[500 N/mm, 20 N/mm^2]",
+                )
+                .map(StopLaw::Polynomial)
             }),
-            _ => props.get("law").and_then(|p| self.prop_table(p, Dim::LENGTH, Dim::FORCE, true).map(StopLaw::Table)),
+            _ => props.get("law").and_then(|p| {
+                self.prop_table(p, Dim::LENGTH, Dim::FORCE, true)
+                    .map(StopLaw::Table)
+            }),
         };
-        let (Some(kind), Some((i, j)), Some(contact_length), Some(law)) = (kind, ij, contact, law) else { return };
+        let (Some(kind), Some((i, j)), Some(contact_length), Some(law)) = (kind, ij, contact, law)
+        else {
+            return;
+        };
         let id = StopId(self.model.stops.len() as u32);
         self.model.origins.insert(ElementId::Stop(id), e.name.span);
-        self.model.stops.push(Stop { name: e.name.name.clone(), kind, i, j, contact_length, law });
+        self.model.stops.push(Stop {
+            name: e.name.name.clone(),
+            kind,
+            i,
+            j,
+            contact_length,
+            law,
+        });
     }
 
     fn wheel(&mut self, e: &ElementDecl) {
         let props = self.props("wheel", e, WHEEL_PROPS);
-        let centre_key = if props.has("center") && !props.has("centre") { "center" } else { "centre" };
+        let centre_key = if props.has("center") && !props.has("centre") {
+            "center"
+        } else {
+            "centre"
+        };
         let centre = self.prop_marker(&props, centre_key);
         let contact = self.prop_marker(&props, "contact");
-        let (Some(centre), Some(contact)) = (centre, contact) else { return };
-        let (pc, pk) = (self.model.marker(centre).part, self.model.marker(contact).part);
+        let (Some(centre), Some(contact)) = (centre, contact) else {
+            return;
+        };
+        let (pc, pk) = (
+            self.model.marker(centre).part,
+            self.model.marker(contact).part,
+        );
         if pc != pk {
             let span = |k: &str| props.get(k).map_or(e.name.span, |p| p.value.span());
             self.problems.push(
-                Diagnostic::error("E0409", format!("the centre and contact markers of wheel `{}` are on different parts", e.name.name))
-                    .primary(span("contact"), format!("on `{}`", self.model.part(pk).name))
-                    .secondary(span(centre_key), format!("on `{}`", self.model.part(pc).name))
-                    .hint("both markers belong to the part that carries the wheel"),
+                Diagnostic::error(
+                    "E0409",
+                    format!(
+                        "the centre and contact markers of wheel `{}` are on different parts",
+                        e.name.name
+                    ),
+                )
+                .primary(
+                    span("contact"),
+                    format!("on `{}`", self.model.part(pk).name),
+                )
+                .secondary(
+                    span(centre_key),
+                    format!("on `{}`", self.model.part(pc).name),
+                )
+                .hint("both markers belong to the part that carries the wheel"),
             );
             return;
         }
         let id = WheelId(self.model.wheels.len() as u32);
         self.model.origins.insert(ElementId::Wheel(id), e.name.span);
-        self.model.wheels.push(Wheel { name: e.name.name.clone(), part: pc, centre, contact });
+        self.model.wheels.push(Wheel {
+            name: e.name.name.clone(),
+            part: pc,
+            centre,
+            contact,
+        });
     }
 }

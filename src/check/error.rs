@@ -2,8 +2,8 @@
 //! E02xx units and values, E03xx geometry, E04xx elements, E05xx loads,
 //! E06xx mobility; W for warnings.
 
-use crate::diagnostic::suggest::did_you_mean;
 use crate::diagnostic::Diagnostic;
+use crate::diagnostic::suggest::did_you_mean;
 use crate::span::Span;
 use crate::units::Dim;
 
@@ -30,7 +30,13 @@ pub fn duplicate(what: &str, name: &str, span: Span, first: Span) -> Diagnostic 
 
 pub fn missing_ground(file_span: Span) -> Diagnostic {
     Diagnostic::error("E0103", "the model has no ground part")
-        .primary(Span { end: file_span.start, ..file_span }, "no `ground` in this file")
+        .primary(
+            Span {
+                end: file_span.start,
+                ..file_span
+            },
+            "no `ground` in this file",
+        )
         .hint("declare the fixed part with `ground chassis { ... }` instead of `part`")
 }
 
@@ -63,7 +69,13 @@ pub fn duplicate_property(key: &str, span: Span, first: Span) -> Diagnostic {
         .secondary(first, "first given here")
 }
 
-pub fn missing_property(element: &str, name: &str, key: &str, span: Span, example: &str) -> Diagnostic {
+pub fn missing_property(
+    element: &str,
+    name: &str,
+    key: &str,
+    span: Span,
+    example: &str,
+) -> Diagnostic {
     Diagnostic::error("E0107", format!("{element} `{name}` has no `{key}`"))
         .primary(span, format!("`{key}` missing here"))
         .hint(format!("add a line such as `{example}`"))
@@ -74,14 +86,22 @@ pub fn marker_on_other_part(part: &str, marker: &str, span: Span, owners: &[Stri
         .primary(span, format!("`{marker}` is not a marker of `{part}`"))
         .hint(format!(
             "`{marker}` is a marker of {}",
-            owners.iter().map(|o| format!("`{o}`")).collect::<Vec<_>>().join(" and ")
+            owners
+                .iter()
+                .map(|o| format!("`{o}`"))
+                .collect::<Vec<_>>()
+                .join(" and ")
         ))
 }
 
 pub fn wrong_dimension(expected: Dim, found: Dim, span: Span, example: &str) -> Diagnostic {
     let d = Diagnostic::error(
         "E0201",
-        format!("expected {}, found {}", expected.describe(), found.describe()),
+        format!(
+            "expected {}, found {}",
+            expected.describe(),
+            found.describe()
+        ),
     )
     .primary(span, format!("this is {}", found.describe()));
     if found == Dim::NONE {
@@ -97,7 +117,9 @@ pub fn unknown_unit(text: &str, piece: &str, span: Span) -> Diagnostic {
         .primary(span, "not a unit");
     match did_you_mean(piece, names) {
         Some(h) => d.hint(h),
-        None => d.hint("units: mm, cm, m, N, kN, deg, rad, kg, s, combined as `N/mm`, `N*mm/deg`, `N/mm^3`"),
+        None => d.hint(
+            "units: mm, cm, m, N, kN, deg, rad, kg, s, combined as `N/mm`, `N*mm/deg`, `N/mm^3`",
+        ),
     }
 }
 
@@ -118,8 +140,11 @@ pub fn negative_stiffness(element: &str, what: &str, span: Span) -> Diagnostic {
 }
 
 pub fn table_too_short(span: Span, n: usize) -> Diagnostic {
-    Diagnostic::error("E0206", format!("a table needs at least 2 points, this one has {n}"))
-        .primary(span, "too few points")
+    Diagnostic::error(
+        "E0206",
+        format!("a table needs at least 2 points, this one has {n}"),
+    )
+    .primary(span, "too few points")
 }
 
 pub fn table_not_increasing(span: Span, prev: Span) -> Diagnostic {
@@ -129,10 +154,13 @@ pub fn table_not_increasing(span: Span, prev: Span) -> Diagnostic {
 }
 
 pub fn table_not_monotone(span: Span, prev: Span, direction: &str) -> Diagnostic {
-    Diagnostic::error("E0208", format!("the table's force must {direction} with its abscissa"))
-        .primary(span, "the force turns back here")
-        .secondary(prev, "previous point")
-        .hint("a non-monotone law has several equilibria for one load; check the signs")
+    Diagnostic::error(
+        "E0208",
+        format!("the table's force must {direction} with its abscissa"),
+    )
+    .primary(span, "the force turns back here")
+    .secondary(prev, "previous point")
+    .hint("a non-monotone law has several equilibria for one load; check the signs")
 }
 
 pub fn degenerate_direction(what: &str, span: Span) -> Diagnostic {
@@ -142,13 +170,20 @@ pub fn degenerate_direction(what: &str, span: Span) -> Diagnostic {
 }
 
 pub fn same_part(element: &str, name: &str, part: &str, i: Span, j: Span) -> Diagnostic {
-    Diagnostic::error("E0302", format!("both markers of {element} `{name}` are on part `{part}`"))
-        .primary(j, format!("J is on `{part}`"))
-        .secondary(i, format!("I is on `{part}` too"))
-        .hint("a connection joins two different parts")
+    Diagnostic::error(
+        "E0302",
+        format!("both markers of {element} `{name}` are on part `{part}`"),
+    )
+    .primary(j, format!("J is on `{part}`"))
+    .secondary(i, format!("I is on `{part}` too"))
+    .hint("a connection joins two different parts")
 }
 
-pub fn unknown_module<'a>(name: &str, span: Span, modules: impl IntoIterator<Item = &'a str>) -> Diagnostic {
+pub fn unknown_module<'a>(
+    name: &str,
+    span: Span,
+    modules: impl IntoIterator<Item = &'a str>,
+) -> Diagnostic {
     let list: Vec<&str> = modules.into_iter().collect();
     let d = Diagnostic::error("E0109", format!("unknown module `{name}`"))
         .primary(span, "not a stdlib module")

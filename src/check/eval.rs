@@ -1,11 +1,11 @@
 //! Expressions with units → values in internal units, with dimension checks.
 
-use super::error;
 use super::Checker;
+use super::error;
 use crate::diagnostic::Diagnostic;
 use crate::model::{ParamId, Val};
 use crate::syntax::ast::{BinOp, Expr, ExprKind, UnitLit, Vector};
-use crate::units::{parse_unit, Dim, Unit};
+use crate::units::{Dim, Unit, parse_unit};
 
 /// A value in internal units with its dimension.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -19,7 +19,8 @@ impl Checker {
         match parse_unit(&u.text) {
             Ok(unit) => Some(unit),
             Err(piece) => {
-                self.problems.push(error::unknown_unit(&u.text, &piece, u.span));
+                self.problems
+                    .push(error::unknown_unit(&u.text, &piece, u.span));
                 None
             }
         }
@@ -93,7 +94,10 @@ impl Checker {
                         } else {
                             x.value - y.value
                         };
-                        Some(Q { value: v, dim: x.dim })
+                        Some(Q {
+                            value: v,
+                            dim: x.dim,
+                        })
                     }
                     BinOp::Mul => Some(Q {
                         value: x.value * y.value,
@@ -138,7 +142,11 @@ impl Checker {
             self.problems.push(
                 Diagnostic::error(
                     "E0210",
-                    format!("`{}` takes {arity} argument(s), found {}", f.name, args.len()),
+                    format!(
+                        "`{}` takes {arity} argument(s), found {}",
+                        f.name,
+                        args.len()
+                    ),
                 )
                 .primary(e.span, "wrong number of arguments"),
             );
@@ -151,17 +159,32 @@ impl Checker {
             if q.dim == Dim::ANGLE || q.dim == Dim::NONE {
                 Some(q.value)
             } else {
-                c.problems.push(error::wrong_dimension(Dim::ANGLE, q.dim, args[0].span, "30 deg"));
+                c.problems.push(error::wrong_dimension(
+                    Dim::ANGLE,
+                    q.dim,
+                    args[0].span,
+                    "30 deg",
+                ));
                 None
             }
         };
         match f.name.as_str() {
             "sqrt" => {
                 let d = x.dim;
-                let even = [d.length, d.force, d.angle, d.mass, d.time].iter().all(|e| e % 2 == 0);
+                let even = [d.length, d.force, d.angle, d.mass, d.time]
+                    .iter()
+                    .all(|e| e % 2 == 0);
                 if !even || x.value < 0.0 {
-                    let why = if even { "is negative" } else { "has a dimension with an odd power" };
-                    self.problems.push(error::bad_number("the argument of `sqrt`", args[0].span, why));
+                    let why = if even {
+                        "is negative"
+                    } else {
+                        "has a dimension with an odd power"
+                    };
+                    self.problems.push(error::bad_number(
+                        "the argument of `sqrt`",
+                        args[0].span,
+                        why,
+                    ));
                     return None;
                 }
                 let half = Dim {
@@ -171,9 +194,15 @@ impl Checker {
                     mass: d.mass / 2,
                     time: d.time / 2,
                 };
-                Some(Q { value: x.value.sqrt(), dim: half })
+                Some(Q {
+                    value: x.value.sqrt(),
+                    dim: half,
+                })
             }
-            "abs" => Some(Q { value: x.value.abs(), dim: x.dim }),
+            "abs" => Some(Q {
+                value: x.value.abs(),
+                dim: x.dim,
+            }),
             "sin" | "cos" | "tan" => {
                 let a = angle_arg(self, x)?;
                 let v = match f.name.as_str() {
@@ -181,15 +210,26 @@ impl Checker {
                     "cos" => a.cos(),
                     _ => a.tan(),
                 };
-                Some(Q { value: v, dim: Dim::NONE })
+                Some(Q {
+                    value: v,
+                    dim: Dim::NONE,
+                })
             }
             _ => {
                 let y = vals[1];
                 if x.dim != y.dim {
-                    self.problems.push(error::wrong_dimension(x.dim, y.dim, args[1].span, "atan2(1 mm, 2 mm)"));
+                    self.problems.push(error::wrong_dimension(
+                        x.dim,
+                        y.dim,
+                        args[1].span,
+                        "atan2(1 mm, 2 mm)",
+                    ));
                     return None;
                 }
-                Some(Q { value: x.value.atan2(y.value), dim: Dim::ANGLE })
+                Some(Q {
+                    value: x.value.atan2(y.value),
+                    dim: Dim::ANGLE,
+                })
             }
         }
     }
@@ -222,7 +262,10 @@ impl Checker {
         let mut q = self.eval(e)?;
         if let Some(u) = default {
             if !Self::has_units(e) {
-                q = Q { value: q.value * u.factor, dim: u.dim };
+                q = Q {
+                    value: q.value * u.factor,
+                    dim: u.dim,
+                };
             }
         }
         if q.dim != expected {
@@ -231,14 +274,18 @@ impl Checker {
             return None;
         }
         if !q.value.is_finite() {
-            self.problems.push(error::bad_number("this value", e.span, "is not finite"));
+            self.problems
+                .push(error::bad_number("this value", e.span, "is not finite"));
             return None;
         }
         let param = match &e.kind {
             ExprKind::Param(name) => self.param_lookup(&name.name),
             _ => None,
         };
-        Some(Val { value: q.value, param })
+        Some(Val {
+            value: q.value,
+            param,
+        })
     }
 
     /// A three-component vector of the expected dimension.
@@ -248,14 +295,17 @@ impl Checker {
             None => None,
         };
         // A missing or wrong trailing unit is one mistake, not three.
-        if v.unit.is_none() && expected != Dim::NONE && v.comps.iter().all(|c| !Self::has_units(c)) {
-            self.problems.push(error::wrong_dimension(expected, Dim::NONE, v.span, example));
+        if v.unit.is_none() && expected != Dim::NONE && v.comps.iter().all(|c| !Self::has_units(c))
+        {
+            self.problems
+                .push(error::wrong_dimension(expected, Dim::NONE, v.span, example));
             return None;
         }
         // (trailing unit) trailing unit is one mistake, not three.
         if let (Some(u), Some(lit)) = (default, &v.unit) {
             if u.dim != expected && v.comps.iter().all(|c| !Self::has_units(c)) {
-                self.problems.push(error::wrong_dimension(expected, u.dim, lit.span, example));
+                self.problems
+                    .push(error::wrong_dimension(expected, u.dim, lit.span, example));
                 return None;
             }
         }

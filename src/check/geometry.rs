@@ -24,7 +24,9 @@ impl Checker {
                     Primitive::Coincident(_) => (d.norm(), POSITION_TOL),
                     Primitive::InPlane(b) => (d.dot(&mj.rotation.column(b.index())), POSITION_TOL),
                     Primitive::Perpendicular(a, b) => (
-                        mi.rotation.column(a.index()).dot(&mj.rotation.column(b.index())),
+                        mi.rotation
+                            .column(a.index())
+                            .dot(&mj.rotation.column(b.index())),
                         ANGLE_TOL,
                     ),
                 };

@@ -1,8 +1,8 @@
 //! Load sets: tables (one row per case) and sweeps (load paths), with channels
 //! resolved to wheels and markers.
 
-use super::error;
 use super::Checker;
+use super::error;
 use crate::diagnostic::Diagnostic;
 use crate::model::*;
 use crate::span::Span;
@@ -29,7 +29,12 @@ impl Checker {
     fn add_imported_set(&mut self, import: &Ident, mut set: LoadSet) {
         if let Some(first) = self.model.load_set_named(&set.name) {
             let span = self.span_of(ElementId::LoadSet(first));
-            self.problems.push(error::duplicate("load set", &set.name, import.span, span).note(format!("`{}` is also defined by module `{}`", set.name, import.name)));
+            self.problems.push(
+                error::duplicate("load set", &set.name, import.span, span).note(format!(
+                    "`{}` is also defined by module `{}`",
+                    set.name, import.name
+                )),
+            );
             return;
         }
         let n_sets = self.model.load_sets.len() as u32;
@@ -42,7 +47,9 @@ impl Checker {
             }
         }
         let id = LoadSetId(n_sets);
-        self.model.origins.insert(ElementId::LoadSet(id), import.span);
+        self.model
+            .origins
+            .insert(ElementId::LoadSet(id), import.span);
         self.model.imported_load_sets.push(id);
         self.model.load_sets.push(set);
     }
@@ -60,11 +67,22 @@ impl Checker {
                 None
             }
             _ => {
-                let names: Vec<String> = self.model.wheels.iter().map(|w| format!("`{}.fz`", w.name)).collect();
+                let names: Vec<String> = self
+                    .model
+                    .wheels
+                    .iter()
+                    .map(|w| format!("`{}.fz`", w.name))
+                    .collect();
                 self.problems.push(
-                    Diagnostic::error("E0502", format!("load set `{set}` does not say which wheel it loads"))
-                        .primary(span, "the model has several wheels")
-                        .hint(format!("name the wheel in the channel: {}", names.join(", "))),
+                    Diagnostic::error(
+                        "E0502",
+                        format!("load set `{set}` does not say which wheel it loads"),
+                    )
+                    .primary(span, "the model has several wheels")
+                    .hint(format!(
+                        "name the wheel in the channel: {}",
+                        names.join(", ")
+                    )),
                 );
                 None
             }
@@ -75,8 +93,13 @@ impl Checker {
         let comp_name = c.path.last().map(String::as_str).unwrap_or("");
         let Some(component) = Component::from_name(comp_name) else {
             self.problems.push(
-                error::unknown_name("load component", comp_name, c.span, Component::ALL.iter().map(|c| c.name()))
-                    .note("components: fx, fy, fz (N), mx, my, mz (N*mm), global axes"),
+                error::unknown_name(
+                    "load component",
+                    comp_name,
+                    c.span,
+                    Component::ALL.iter().map(|c| c.name()),
+                )
+                .note("components: fx, fy, fz (N), mx, my, mz (N*mm), global axes"),
             );
             return None;
         };
@@ -88,9 +111,16 @@ impl Checker {
                 match self.model.wheels.iter().position(|x| &x.name == w) {
                     Some(i) => LoadTarget::Wheel(WheelId(i as u32)),
                     None => {
-                        let mut d = error::unknown_name("wheel", w, c.span, self.model.wheels.iter().map(|w| w.name.as_str()));
+                        let mut d = error::unknown_name(
+                            "wheel",
+                            w,
+                            c.span,
+                            self.model.wheels.iter().map(|w| w.name.as_str()),
+                        );
                         if self.model.part_named(w).is_some() {
-                            d = d.note(format!("`{w}` is a part; to load a marker write `{w}.MARKER.{comp_name}`"));
+                            d = d.note(format!(
+                                "`{w}` is a part; to load a marker write `{w}.MARKER.{comp_name}`"
+                            ));
                         }
                         self.problems.push(d);
                         return None;
@@ -99,8 +129,14 @@ impl Checker {
             }
             _ => {
                 let r = crate::syntax::ast::MarkerRef {
-                    part: Ident { name: c.path[0].clone(), span: c.span },
-                    marker: Ident { name: c.path[1].clone(), span: c.span },
+                    part: Ident {
+                        name: c.path[0].clone(),
+                        span: c.span,
+                    },
+                    marker: Ident {
+                        name: c.path[1].clone(),
+                        span: c.span,
+                    },
                     span: c.span,
                 };
                 LoadTarget::Marker(self.marker_ref(&r)?)
@@ -110,14 +146,19 @@ impl Checker {
     }
 
     fn component_dim(c: Component) -> Dim {
-        if c.is_torque() { Dim::TORQUE } else { Dim::FORCE }
+        if c.is_torque() {
+            Dim::TORQUE
+        } else {
+            Dim::FORCE
+        }
     }
 
     fn load_set(&mut self, l: &LoadsDecl) {
         let name = &l.name.name;
         if let Some(first) = self.model.load_set_named(name) {
             let span = self.span_of(ElementId::LoadSet(first));
-            self.problems.push(error::duplicate("load set", name, l.name.span, span));
+            self.problems
+                .push(error::duplicate("load set", name, l.name.span, span));
             return;
         }
         let set = match &l.body {
@@ -126,8 +167,16 @@ impl Checker {
                 let mut factors = Vec::new();
                 let mut ok = true;
                 for (n, col) in columns.iter().enumerate() {
-                    if let Some(prev) = columns[..n].iter().find(|c| c.channel.path == col.channel.path) {
-                        self.problems.push(error::duplicate("column", &col.channel.text(), col.channel.span, prev.channel.span));
+                    if let Some(prev) = columns[..n]
+                        .iter()
+                        .find(|c| c.channel.path == col.channel.path)
+                    {
+                        self.problems.push(error::duplicate(
+                            "column",
+                            &col.channel.text(),
+                            col.channel.span,
+                            prev.channel.span,
+                        ));
                         ok = false;
                         continue;
                     }
@@ -138,7 +187,12 @@ impl Checker {
                             let want = Self::component_dim(ch.component);
                             if u.dim != want {
                                 let ex = format!("{} {}", col.channel.text(), want.boundary_unit());
-                                self.problems.push(error::wrong_dimension(want, u.dim, col.unit.span, &ex));
+                                self.problems.push(error::wrong_dimension(
+                                    want,
+                                    u.dim,
+                                    col.unit.span,
+                                    &ex,
+                                ));
                                 ok = false;
                             }
                             channels.push(ch);
@@ -150,29 +204,65 @@ impl Checker {
                 let mut cases: Vec<LoadCase> = Vec::new();
                 for (r, row) in rows.iter().enumerate() {
                     if let Some(prev) = rows[..r].iter().find(|x| x.name.name == row.name.name) {
-                        self.problems.push(error::duplicate("load case", &row.name.name, row.name.span, prev.name.span));
+                        self.problems.push(error::duplicate(
+                            "load case",
+                            &row.name.name,
+                            row.name.span,
+                            prev.name.span,
+                        ));
                         ok = false;
                     }
                     if row.values.len() != columns.len() {
                         self.problems.push(
-                            Diagnostic::error("E0503", format!("load case `{}` has {} values for {} columns", row.name.name, row.values.len(), columns.len()))
-                                .primary(row.span, "wrong number of values")
-                                .note(format!("columns: {}", columns.iter().map(|c| c.channel.text()).collect::<Vec<_>>().join(", "))),
+                            Diagnostic::error(
+                                "E0503",
+                                format!(
+                                    "load case `{}` has {} values for {} columns",
+                                    row.name.name,
+                                    row.values.len(),
+                                    columns.len()
+                                ),
+                            )
+                            .primary(row.span, "wrong number of values")
+                            .note(format!(
+                                "columns: {}",
+                                columns
+                                    .iter()
+                                    .map(|c| c.channel.text())
+                                    .collect::<Vec<_>>()
+                                    .join(", ")
+                            )),
                         );
                         ok = false;
                         continue;
                     }
-                    let values = row.values.iter().zip(&factors).map(|(v, f)| v.value * f).collect();
-                    cases.push(LoadCase { name: row.name.name.clone(), values });
+                    let values = row
+                        .values
+                        .iter()
+                        .zip(&factors)
+                        .map(|(v, f)| v.value * f)
+                        .collect();
+                    cases.push(LoadCase {
+                        name: row.name.name.clone(),
+                        values,
+                    });
                 }
                 if rows.is_empty() {
-                    self.problems.push(Diagnostic::error("E0504", format!("load set `{name}` has no cases")).primary(l.name.span, "empty"));
+                    self.problems.push(
+                        Diagnostic::error("E0504", format!("load set `{name}` has no cases"))
+                            .primary(l.name.span, "empty"),
+                    );
                     ok = false;
                 }
                 if !ok {
                     return;
                 }
-                LoadSet { name: name.clone(), channels, cases, form: LoadForm::Table }
+                LoadSet {
+                    name: name.clone(),
+                    channels,
+                    cases,
+                    form: LoadForm::Table,
+                }
             }
             LoadsBody::Sweep { lines } => match self.sweep(name, l.name.span, lines) {
                 Some(s) => s,
@@ -180,18 +270,33 @@ impl Checker {
             },
         };
         let id = LoadSetId(self.model.load_sets.len() as u32);
-        self.model.origins.insert(ElementId::LoadSet(id), l.name.span);
+        self.model
+            .origins
+            .insert(ElementId::LoadSet(id), l.name.span);
         self.model.load_sets.push(set);
     }
 
-    fn sweep(&mut self, name: &str, name_span: Span, lines: &[crate::syntax::ast::SweepLine]) -> Option<LoadSet> {
+    fn sweep(
+        &mut self,
+        name: &str,
+        name_span: Span,
+        lines: &[crate::syntax::ast::SweepLine],
+    ) -> Option<LoadSet> {
         let mut channels = Vec::new();
         let mut constants = Vec::new();
         let mut swept: Option<(usize, Vec<f64>, f64, Span)> = None;
         let mut ok = true;
         for (n, line) in lines.iter().enumerate() {
-            if let Some(prev) = lines[..n].iter().find(|x| x.channel.path == line.channel.path) {
-                self.problems.push(error::duplicate("channel", &line.channel.text(), line.channel.span, prev.channel.span));
+            if let Some(prev) = lines[..n]
+                .iter()
+                .find(|x| x.channel.path == line.channel.path)
+            {
+                self.problems.push(error::duplicate(
+                    "channel",
+                    &line.channel.text(),
+                    line.channel.span,
+                    prev.channel.span,
+                ));
                 ok = false;
                 continue;
             }
@@ -201,7 +306,11 @@ impl Checker {
             };
             let dim = Self::component_dim(ch.component);
             let ex = format!("{} 4500 {}", line.channel.text(), dim.boundary_unit());
-            let pts: Vec<Option<Val>> = line.waypoints.iter().map(|e| self.scalar(e, dim, &ex)).collect();
+            let pts: Vec<Option<Val>> = line
+                .waypoints
+                .iter()
+                .map(|e| self.scalar(e, dim, &ex))
+                .collect();
             let Some(pts) = pts.into_iter().collect::<Option<Vec<Val>>>() else {
                 ok = false;
                 continue;
@@ -218,16 +327,25 @@ impl Checker {
                         continue;
                     };
                     if s.value <= 0.0 {
-                        self.problems.push(error::bad_number("the step", step.span, "must be positive"));
+                        self.problems.push(error::bad_number(
+                            "the step",
+                            step.span,
+                            "must be positive",
+                        ));
                         ok = false;
                         continue;
                     }
                     if let Some((_, _, _, first)) = &swept {
                         self.problems.push(
-                            Diagnostic::error("E0505", format!("sweep `{name}` sweeps two channels"))
-                                .primary(line.span, "a second swept channel")
-                                .secondary(*first, "the swept channel")
-                                .hint("a sweep moves one channel; write a load table for combined paths"),
+                            Diagnostic::error(
+                                "E0505",
+                                format!("sweep `{name}` sweeps two channels"),
+                            )
+                            .primary(line.span, "a second swept channel")
+                            .secondary(*first, "the swept channel")
+                            .hint(
+                                "a sweep moves one channel; write a load table for combined paths",
+                            ),
                         );
                         ok = false;
                         continue;
@@ -269,9 +387,12 @@ impl Checker {
             let n = ((w[1] - w[0]).abs() / step).round();
             if ((w[1] - w[0]).abs() - n * step).abs() > 1e-9 * step.max(w[1].abs()) || n < 1.0 {
                 self.problems.push(
-                    Diagnostic::error("E0509", "a waypoint is not a whole number of steps from the previous one")
-                        .primary(span, "the steps do not land on every waypoint")
-                        .note(format!("from {} to {} by {}", w[0], w[1], step)),
+                    Diagnostic::error(
+                        "E0509",
+                        "a waypoint is not a whole number of steps from the previous one",
+                    )
+                    .primary(span, "the steps do not land on every waypoint")
+                    .note(format!("from {} to {} by {}", w[0], w[1], step)),
                 );
                 return None;
             }
@@ -293,15 +414,30 @@ impl Checker {
                     vals[*c] = *x;
                 }
                 vals[idx] = *v;
-                LoadCase { name: format!("{name}_{:03}", k + 1), values: vals }
+                LoadCase {
+                    name: format!("{name}_{:03}", k + 1),
+                    values: vals,
+                }
             })
             .collect();
-        Some(LoadSet { name: name.to_string(), channels, cases, form: LoadForm::Sweep { swept: idx, waypoints, step } })
+        Some(LoadSet {
+            name: name.to_string(),
+            channels,
+            cases,
+            form: LoadForm::Sweep {
+                swept: idx,
+                waypoints,
+                step,
+            },
+        })
     }
 }
 
 fn bad_sweep(span: Span) -> Diagnostic {
-    Diagnostic::error("E0510", format!("the sweep has more than {MAX_SWEEP_STEPS} steps"))
-        .primary(span, "too many steps")
-        .hint("check the step and its unit")
+    Diagnostic::error(
+        "E0510",
+        format!("the sweep has more than {MAX_SWEEP_STEPS} steps"),
+    )
+    .primary(span, "too many steps")
+    .hint("check the step and its unit")
 }

@@ -44,7 +44,10 @@ fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize) -> Checked {
         Err(d) => {
             let mut problems = Problems::default();
             problems.push(d);
-            return Checked { model: None, problems };
+            return Checked {
+                model: None,
+                problems,
+            };
         }
     };
     let mut problems = Problems::default();
@@ -67,7 +70,9 @@ fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize) -> Checked {
                 continue;
             }
             let fname = crate::stdlib::file_name(&name.name);
-            let fid = sources.find(&fname).unwrap_or_else(|| sources.add(fname, src));
+            let fid = sources
+                .find(&fname)
+                .unwrap_or_else(|| sources.add(fname, src));
             let sub = check_depth(sources, fid, depth + 1);
             problems.extend(sub.problems);
             if let Some(m) = sub.model {
@@ -85,11 +90,16 @@ fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize) -> Checked {
             name: stem,
             ..Model::default()
         },
-        library: !ast.items.iter().any(|i| matches!(i.kind, ItemKind::Part(_))),
+        library: !ast
+            .items
+            .iter()
+            .any(|i| matches!(i.kind, ItemKind::Part(_))),
         file_span: ast.span,
     };
     checker.run(&ast, imports);
-    let Checker { problems, model, .. } = checker;
+    let Checker {
+        problems, model, ..
+    } = checker;
     let model = (!problems.has_errors()).then_some(model);
     Checked { model, problems }
 }
@@ -116,7 +126,9 @@ impl Checker {
         }
         self.model.imports = imports
             .iter()
-            .map(|(n, _)| crate::model::Import { module: n.name.clone() })
+            .map(|(n, _)| crate::model::Import {
+                module: n.name.clone(),
+            })
             .collect();
         self.parts(ast);
         self.elements(ast);
@@ -130,7 +142,12 @@ impl Checker {
     fn param(&mut self, p: &crate::syntax::ast::ParamDecl) {
         if let Some(first) = self.model.param_named(&p.name.name) {
             let span = self.span_of(ElementId::Param(first));
-            self.problems.push(error::duplicate("parameter", &p.name.name, p.name.span, span));
+            self.problems.push(error::duplicate(
+                "parameter",
+                &p.name.name,
+                p.name.span,
+                span,
+            ));
             return;
         }
         let Some(q) = self.eval(&p.value) else { return };
@@ -138,8 +155,14 @@ impl Checker {
             let mut bounds = crate::model::Bounds::default();
             if let Some((lo, hi)) = &u.bounds {
                 let example = format!("{} {}", 1, q.dim.boundary_unit());
-                bounds.lower = lo.as_ref().and_then(|e| self.scalar(e, q.dim, &example)).map(|v| v.value);
-                bounds.upper = hi.as_ref().and_then(|e| self.scalar(e, q.dim, &example)).map(|v| v.value);
+                bounds.lower = lo
+                    .as_ref()
+                    .and_then(|e| self.scalar(e, q.dim, &example))
+                    .map(|v| v.value);
+                bounds.upper = hi
+                    .as_ref()
+                    .and_then(|e| self.scalar(e, q.dim, &example))
+                    .map(|v| v.value);
                 if let (Some(l), Some(h)) = (bounds.lower, bounds.upper) {
                     if l >= h || q.value < l || q.value > h {
                         self.problems.push(
@@ -210,4 +233,3 @@ impl Checker {
         self.model.origins.get(id).unwrap_or(self.file_span)
     }
 }
-

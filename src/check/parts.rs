@@ -1,10 +1,10 @@
 //! Parts, markers (frames) and landmarks.
 
-use super::error;
 use super::Checker;
-use crate::geom::{euler_zxz, frame_from_z_x, FrameError, Mat3};
+use super::error;
+use crate::geom::{FrameError, Mat3, euler_zxz, frame_from_z_x};
 use crate::model::{
-    Val, ElementId, Landmark, LandmarkId, Marker, MarkerId, Orientation, Part, PartId, values,
+    ElementId, Landmark, LandmarkId, Marker, MarkerId, Orientation, Part, PartId, Val, values,
 };
 use crate::syntax::ast::{File, ItemKind, MarkerRef, Orient, PartItem};
 use crate::units::Dim;
@@ -13,22 +13,28 @@ impl Checker {
     pub(super) fn parts(&mut self, ast: &File) {
         let mut ground_span = None;
         for item in &ast.items {
-            let ItemKind::Part(p) = &item.kind else { continue };
+            let ItemKind::Part(p) = &item.kind else {
+                continue;
+            };
             if let Some(first) = self.model.part_named(&p.name.name) {
                 let span = self.span_of(ElementId::Part(first));
-                self.problems.push(error::duplicate("part", &p.name.name, p.name.span, span));
+                self.problems
+                    .push(error::duplicate("part", &p.name.name, p.name.span, span));
                 continue;
             }
             if p.ground {
                 match ground_span {
                     Some(first) => {
-                        self.problems.push(error::second_ground(p.keyword_span.to(p.name.span), first));
+                        self.problems
+                            .push(error::second_ground(p.keyword_span.to(p.name.span), first));
                     }
                     None => ground_span = Some(p.keyword_span.to(p.name.span)),
                 }
             }
             let part = PartId(self.model.parts.len() as u32);
-            self.model.origins.insert(ElementId::Part(part), p.name.span);
+            self.model
+                .origins
+                .insert(ElementId::Part(part), p.name.span);
             self.model.parts.push(Part {
                 name: p.name.name.clone(),
                 ground: p.ground && ground_span == Some(p.keyword_span.to(p.name.span)),
@@ -37,15 +43,34 @@ impl Checker {
                 match pi {
                     PartItem::Marker(m) => self.marker(part, m),
                     PartItem::Landmark(l) => {
-                        if let Some(first) = self.model.landmarks.iter().position(|x| x.part == part && x.name == l.name.name) {
+                        if let Some(first) = self
+                            .model
+                            .landmarks
+                            .iter()
+                            .position(|x| x.part == part && x.name == l.name.name)
+                        {
                             let span = self.span_of(ElementId::Landmark(LandmarkId(first as u32)));
-                            self.problems.push(error::duplicate("landmark", &l.name.name, l.name.span, span));
+                            self.problems.push(error::duplicate(
+                                "landmark",
+                                &l.name.name,
+                                l.name.span,
+                                span,
+                            ));
                             continue;
                         }
-                        let Some(position) = self.vector(&l.at, Dim::LENGTH, "(310, 330, 270) mm") else { continue };
+                        let Some(position) = self.vector(&l.at, Dim::LENGTH, "(310, 330, 270) mm")
+                        else {
+                            continue;
+                        };
                         let id = LandmarkId(self.model.landmarks.len() as u32);
-                        self.model.origins.insert(ElementId::Landmark(id), l.name.span);
-                        self.model.landmarks.push(Landmark { name: l.name.name.clone(), part, position });
+                        self.model
+                            .origins
+                            .insert(ElementId::Landmark(id), l.name.span);
+                        self.model.landmarks.push(Landmark {
+                            name: l.name.name.clone(),
+                            part,
+                            position,
+                        });
                     }
                 }
             }
@@ -58,7 +83,8 @@ impl Checker {
     fn marker(&mut self, part: PartId, m: &crate::syntax::ast::MarkerDecl) {
         if let Some(first) = self.model.marker_named(part, &m.name.name) {
             let span = self.span_of(ElementId::Marker(first));
-            self.problems.push(error::duplicate("marker", &m.name.name, m.name.span, span));
+            self.problems
+                .push(error::duplicate("marker", &m.name.name, m.name.span, span));
             return;
         }
         let position = self.vector(&m.at, Dim::LENGTH, "(294.7, 365.1, 246.1) mm");
@@ -67,10 +93,15 @@ impl Checker {
         // error already prevents a model), so they are not reported as unknown.
         let (position, (orientation, rotation)) = match (position, frame) {
             (Some(p), Some(f)) => (p, f),
-            (p, f) => (p.unwrap_or([Val::ZERO; 3]), f.unwrap_or((Orientation::Identity, Mat3::identity()))),
+            (p, f) => (
+                p.unwrap_or([Val::ZERO; 3]),
+                f.unwrap_or((Orientation::Identity, Mat3::identity())),
+            ),
         };
         let id = MarkerId(self.model.markers.len() as u32);
-        self.model.origins.insert(ElementId::Marker(id), m.name.span);
+        self.model
+            .origins
+            .insert(ElementId::Marker(id), m.name.span);
         self.model.markers.push(Marker {
             name: m.name.name.clone(),
             part,
@@ -100,8 +131,14 @@ impl Checker {
                     Err(e) => {
                         let (what, span) = match e {
                             FrameError::ZeroZ => ("the z direction is zero", z.span),
-                            FrameError::ZeroX => ("the x direction is zero", x.as_ref().map_or(z.span, |x| x.span)),
-                            FrameError::ParallelX => ("the x direction is parallel to z", x.as_ref().map_or(z.span, |x| x.span)),
+                            FrameError::ZeroX => (
+                                "the x direction is zero",
+                                x.as_ref().map_or(z.span, |x| x.span),
+                            ),
+                            FrameError::ParallelX => (
+                                "the x direction is parallel to z",
+                                x.as_ref().map_or(z.span, |x| x.span),
+                            ),
                         };
                         self.problems.push(error::degenerate_direction(what, span));
                         return None;
@@ -141,12 +178,19 @@ impl Checker {
                 .filter(|m| m.part == part)
                 .map(|m| m.name.as_str())
                 .collect();
-            error::unknown_name("marker", &format!("{}.{}", r.part.name, r.marker.name), r.marker.span, [])
-                .hint(match crate::diagnostic::suggest::best(&r.marker.name, names.iter().copied()) {
+            error::unknown_name(
+                "marker",
+                &format!("{}.{}", r.part.name, r.marker.name),
+                r.marker.span,
+                [],
+            )
+            .hint(
+                match crate::diagnostic::suggest::best(&r.marker.name, names.iter().copied()) {
                     Some(b) => format!("did you mean `{}.{b}`?", r.part.name),
                     None if names.is_empty() => format!("part `{}` has no markers", r.part.name),
                     None => format!("markers of `{}`: {}", r.part.name, names.join(", ")),
-                })
+                },
+            )
         } else {
             error::marker_on_other_part(&r.part.name, &r.marker.name, r.marker.span, &owners)
         };

@@ -1,8 +1,8 @@
 //! The property list of an element: unknown and repeated keys, and typed access
 //! (`marker`, `scalar`, `vector`, `table`, `list`) with wrong-kind diagnostics.
 
-use super::error;
 use super::Checker;
+use super::error;
 use crate::model::{MarkerId, Table, Val, Val3};
 use crate::syntax::ast::{ElementDecl, Property, TableLit, Value};
 use crate::units::Dim;
@@ -38,22 +38,41 @@ fn kind_of(v: &Value) -> &'static str {
 }
 
 impl Checker {
-    pub(super) fn props<'a>(&mut self, element: &'static str, decl: &'a ElementDecl, allowed: &[&str]) -> Props<'a> {
+    pub(super) fn props<'a>(
+        &mut self,
+        element: &'static str,
+        decl: &'a ElementDecl,
+        allowed: &[&str],
+    ) -> Props<'a> {
         let mut map: BTreeMap<&str, &Property> = BTreeMap::new();
         let mut had_unknown = false;
         for p in &decl.props {
             if !allowed.contains(&p.key.name.as_str()) {
                 had_unknown = true;
-                self.problems.push(error::unknown_property(element, &p.key.name, p.key.span, allowed.iter().copied()));
+                self.problems.push(error::unknown_property(
+                    element,
+                    &p.key.name,
+                    p.key.span,
+                    allowed.iter().copied(),
+                ));
                 continue;
             }
             if let Some(first) = map.get(p.key.name.as_str()) {
-                self.problems.push(error::duplicate_property(&p.key.name, p.key.span, first.key.span));
+                self.problems.push(error::duplicate_property(
+                    &p.key.name,
+                    p.key.span,
+                    first.key.span,
+                ));
                 continue;
             }
             map.insert(&p.key.name, p);
         }
-        Props { element, decl, had_unknown, map }
+        Props {
+            element,
+            decl,
+            had_unknown,
+            map,
+        }
     }
 
     /// A required marker reference.
@@ -74,7 +93,12 @@ impl Checker {
         match &p.value {
             Value::Ref(r) => self.marker_ref(r),
             v => {
-                self.problems.push(error::wrong_value_kind("a marker such as `chassis.B`", kind_of(v), v.span(), &format!("{key} chassis.B")));
+                self.problems.push(error::wrong_value_kind(
+                    "a marker such as `chassis.B`",
+                    kind_of(v),
+                    v.span(),
+                    &format!("{key} chassis.B"),
+                ));
                 None
             }
         }
@@ -84,7 +108,12 @@ impl Checker {
         match &p.value {
             Value::Expr(e) => self.scalar(e, dim, example),
             v => {
-                self.problems.push(error::wrong_value_kind("a single value", kind_of(v), v.span(), example));
+                self.problems.push(error::wrong_value_kind(
+                    "a single value",
+                    kind_of(v),
+                    v.span(),
+                    example,
+                ));
                 None
             }
         }
@@ -94,20 +123,39 @@ impl Checker {
         match &p.value {
             Value::Vector(v) => self.vector(v, dim, example),
             v => {
-                self.problems.push(error::wrong_value_kind("a vector", kind_of(v), v.span(), example));
+                self.problems.push(error::wrong_value_kind(
+                    "a vector",
+                    kind_of(v),
+                    v.span(),
+                    example,
+                ));
                 None
             }
         }
     }
 
-    pub(super) fn prop_list(&mut self, p: &Property, dims: impl Fn(usize) -> Dim, example: &str) -> Option<Vec<Val>> {
+    pub(super) fn prop_list(
+        &mut self,
+        p: &Property,
+        dims: impl Fn(usize) -> Dim,
+        example: &str,
+    ) -> Option<Vec<Val>> {
         match &p.value {
             Value::List(items, _) => {
-                let vals: Vec<Option<Val>> = items.iter().enumerate().map(|(i, e)| self.scalar(e, dims(i), example)).collect();
+                let vals: Vec<Option<Val>> = items
+                    .iter()
+                    .enumerate()
+                    .map(|(i, e)| self.scalar(e, dims(i), example))
+                    .collect();
                 vals.into_iter().collect()
             }
             v => {
-                self.problems.push(error::wrong_value_kind("a list", kind_of(v), v.span(), example));
+                self.problems.push(error::wrong_value_kind(
+                    "a list",
+                    kind_of(v),
+                    v.span(),
+                    example,
+                ));
                 None
             }
         }
@@ -115,29 +163,45 @@ impl Checker {
 
     /// A table law with the given axis dimensions; `increasing` says whether the
     /// force must grow (true) or shrink (false) with the abscissa.
-    pub(super) fn table(&mut self, t: &TableLit, x: Dim, y: Dim, increasing: bool) -> Option<Table> {
-        let example = format!("table ({}, {}) [(0, 0), (5, 5000)]", x.boundary_unit(), y.boundary_unit());
+    pub(super) fn table(
+        &mut self,
+        t: &TableLit,
+        x: Dim,
+        y: Dim,
+        increasing: bool,
+    ) -> Option<Table> {
+        let example = format!(
+            "table ({}, {}) [(0, 0), (5, 5000)]",
+            x.boundary_unit(),
+            y.boundary_unit()
+        );
         let xu = self.unit(&t.x_unit)?;
         let yu = self.unit(&t.y_unit)?;
         let mut ok = true;
         if xu.dim != x {
-            self.problems.push(error::wrong_dimension(x, xu.dim, t.x_unit.span, &example));
+            self.problems
+                .push(error::wrong_dimension(x, xu.dim, t.x_unit.span, &example));
             ok = false;
         }
         if yu.dim != y {
-            self.problems.push(error::wrong_dimension(y, yu.dim, t.y_unit.span, &example));
+            self.problems
+                .push(error::wrong_dimension(y, yu.dim, t.y_unit.span, &example));
             ok = false;
         }
         if t.points.len() < 2 {
-            self.problems.push(error::table_too_short(t.span, t.points.len()));
+            self.problems
+                .push(error::table_too_short(t.span, t.points.len()));
             return None;
         }
         for w in t.points.windows(2) {
             let (a, b) = (&w[0], &w[1]);
             if b.0.value <= a.0.value {
-                self.problems.push(error::table_not_increasing(b.0.span, a.0.span));
+                self.problems
+                    .push(error::table_not_increasing(b.0.span, a.0.span));
                 ok = false;
-            } else if (increasing && b.1.value < a.1.value) || (!increasing && b.1.value > a.1.value) {
+            } else if (increasing && b.1.value < a.1.value)
+                || (!increasing && b.1.value > a.1.value)
+            {
                 self.problems.push(error::table_not_monotone(
                     b.1.span,
                     a.1.span,
@@ -147,26 +211,52 @@ impl Checker {
             }
         }
         ok.then(|| Table {
-            points: t.points.iter().map(|(a, b)| (a.value * xu.factor, b.value * yu.factor)).collect(),
+            points: t
+                .points
+                .iter()
+                .map(|(a, b)| (a.value * xu.factor, b.value * yu.factor))
+                .collect(),
         })
     }
 
-    pub(super) fn prop_table(&mut self, p: &Property, x: Dim, y: Dim, increasing: bool) -> Option<Table> {
+    pub(super) fn prop_table(
+        &mut self,
+        p: &Property,
+        x: Dim,
+        y: Dim,
+        increasing: bool,
+    ) -> Option<Table> {
         match &p.value {
             Value::Table(t) => self.table(t, x, y, increasing),
             v => {
-                let ex = format!("table ({}, {}) [(0, 0), (5, 5000)]", x.boundary_unit(), y.boundary_unit());
-                self.problems.push(error::wrong_value_kind("a table", kind_of(v), v.span(), &ex));
+                let ex = format!(
+                    "table ({}, {}) [(0, 0), (5, 5000)]",
+                    x.boundary_unit(),
+                    y.boundary_unit()
+                );
+                self.problems.push(error::wrong_value_kind(
+                    "a table",
+                    kind_of(v),
+                    v.span(),
+                    &ex,
+                ));
                 None
             }
         }
     }
 
     /// Reports a negative stiffness.
-    pub(super) fn non_negative(&mut self, v: Val, props: &Props, what: &str, span: crate::span::Span) -> Val {
+    pub(super) fn non_negative(
+        &mut self,
+        v: Val,
+        props: &Props,
+        what: &str,
+        span: crate::span::Span,
+    ) -> Val {
         if v.value < 0.0 {
             let elem = format!("{} `{}`", props.element, props.decl.name.name);
-            self.problems.push(error::negative_stiffness(&elem, what, span));
+            self.problems
+                .push(error::negative_stiffness(&elem, what, span));
         }
         v
     }

@@ -28,7 +28,10 @@ pub fn run(kind: DeckKind, file: &Path, loadcases: Option<&str>, out: Option<&Pa
     };
     let stem = |ext: &str| -> String {
         let p = out.map(|p| p.as_path()).unwrap_or(file);
-        p.with_extension(ext).file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
+        p.with_extension(ext)
+            .file_name()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
     };
     let text = match kind {
         DeckKind::Adm => emit::emit_adm(&model).map(|d| {

@@ -10,11 +10,20 @@ pub enum ImportKind {
 }
 
 pub fn run(file: &Path, out: Option<&PathBuf>) -> Exit {
-    let Some(text) = super::read(file) else { return Exit::Io };
+    let Some(text) = super::read(file) else {
+        return Exit::Io;
+    };
     let imported = crate::import::import_adm(&file.display().to_string(), &text);
     render::to_stderr(&imported.sources, &imported.problems);
     match imported.source {
-        Some(src) if !imported.problems.iter().any(|d| d.severity == Severity::Error) => super::write_out(out, &src),
+        Some(src)
+            if !imported
+                .problems
+                .iter()
+                .any(|d| d.severity == Severity::Error) =>
+        {
+            super::write_out(out, &src)
+        }
         _ => Exit::Input,
     }
 }

@@ -10,7 +10,11 @@ use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 
 #[derive(Parser)]
-#[command(name = "axle", version, about = "A model language and compiler for car suspensions")]
+#[command(
+    name = "axle",
+    version,
+    about = "A model language and compiler for car suspensions"
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub cmd: Cmd,
@@ -75,8 +79,17 @@ pub fn run(cli: Cli) -> Exit {
     match cli.cmd {
         Cmd::Check { files, format } => check::run(&files, format),
         Cmd::Fmt { files, check } => fmt::run(&files, check),
-        Cmd::Emit { kind, file, loadcases, output } => emit::run(kind, &file, loadcases.as_deref(), output.as_ref()),
-        Cmd::Import { kind: _, file, output } => import::run(&file, output.as_ref()),
+        Cmd::Emit {
+            kind,
+            file,
+            loadcases,
+            output,
+        } => emit::run(kind, &file, loadcases.as_deref(), output.as_ref()),
+        Cmd::Import {
+            kind: _,
+            file,
+            output,
+        } => import::run(&file, output.as_ref()),
     }
 }
 

@@ -3,7 +3,9 @@
 
 use super::{Diagnostic, Severity};
 use crate::source::SourceMap;
-use codespan_reporting::diagnostic::{Diagnostic as CsDiagnostic, Label as CsLabel, Severity as CsSeverity};
+use codespan_reporting::diagnostic::{
+    Diagnostic as CsDiagnostic, Label as CsLabel, Severity as CsSeverity,
+};
 use codespan_reporting::term::{self, Config};
 use serde::Serialize;
 
@@ -53,7 +55,9 @@ pub fn to_stderr(sources: &SourceMap, diags: &[Diagnostic]) {
     let w = StandardStream::stderr(choice);
     let mut lock = w.lock();
     for d in diags {
-        if term::emit_to_write_style(&mut lock, &Config::default(), sources, &to_codespan(d)).is_err() {
+        if term::emit_to_write_style(&mut lock, &Config::default(), sources, &to_codespan(d))
+            .is_err()
+        {
             eprintln!("{}", to_string(sources, d));
         }
     }

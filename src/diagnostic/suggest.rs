@@ -22,7 +22,11 @@ pub fn best<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Op
     candidates
         .into_iter()
         .map(|c| {
-            let d = if c.eq_ignore_ascii_case(name) { 0 } else { distance(name, c) };
+            let d = if c.eq_ignore_ascii_case(name) {
+                0
+            } else {
+                distance(name, c)
+            };
             (d, c)
         })
         .filter(|(d, _)| *d <= limit)
@@ -31,7 +35,10 @@ pub fn best<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Op
 }
 
 /// `did you mean `x`?` or an empty hint.
-pub fn did_you_mean<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<String> {
+pub fn did_you_mean<'a>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<String> {
     best(name, candidates).map(|c| format!("did you mean `{c}`?"))
 }
 
@@ -43,7 +50,10 @@ mod tests {
     fn finds_near_names() {
         assert_eq!(distance("kitten", "sitting"), 3);
         assert_eq!(best("uprigth", ["upright", "chassis"]), Some("upright"));
-        assert_eq!(best("front_arm", ["rear_arm", "front_arm2"]), Some("front_arm2"));
+        assert_eq!(
+            best("front_arm", ["rear_arm", "front_arm2"]),
+            Some("front_arm2")
+        );
         assert_eq!(best("zzz", ["upright"]), None);
         assert_eq!(best("Chassis", ["chassis"]), Some("chassis"));
     }

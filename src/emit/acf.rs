@@ -9,7 +9,12 @@ use super::writer::num;
 use crate::model::{LoadSetId, Model};
 
 /// `adm_file`: the dataset name written on line 1; `prefix`: the output prefix.
-pub fn emit_acf(m: &Model, set: LoadSetId, adm_file: &str, prefix: &str) -> Result<String, EmitError> {
+pub fn emit_acf(
+    m: &Model,
+    set: LoadSetId,
+    adm_file: &str,
+    prefix: &str,
+) -> Result<String, EmitError> {
     let plan = Plan::new(m)?;
     let mut o = String::new();
     o.push_str(adm_file);
@@ -25,7 +30,10 @@ pub fn emit_acf(m: &Model, set: LoadSetId, adm_file: &str, prefix: &str) -> Resu
     for case in 0..ls.cases.len() {
         for (v, val) in plan.variable_values(m, set, case) {
             if !val.is_finite() {
-                return Err(EmitError::NotFinite { element: format!("load case `{}`", ls.cases[case].name), what: "a load".into() });
+                return Err(EmitError::NotFinite {
+                    element: format!("load case `{}`", ls.cases[case].name),
+                    what: "a load".into(),
+                });
             }
             o.push_str(&format!("VARIABLE/{v}, FUNCTION={}\n", num(val)));
         }

@@ -34,10 +34,15 @@ fn reuler(mk: &Marker) -> [f64; 3] {
 }
 
 fn marker_stmt(id: u32, part: u32, view: &str, qp: [f64; 3], rot: Option<[f64; 3]>) -> Stmt {
-    let mut s = Stmt::new("MARKER", Some(id)).named(view).arg("PART", part.to_string());
+    let mut s = Stmt::new("MARKER", Some(id))
+        .named(view)
+        .arg("PART", part.to_string());
     s = s.arg("QP", list(&qp));
     if let Some(a) = rot {
-        s = s.arg("REULER", a.iter().map(|v| deg(*v)).collect::<Vec<_>>().join(", "));
+        s = s.arg(
+            "REULER",
+            a.iter().map(|v| deg(*v)).collect::<Vec<_>>().join(", "),
+        );
     }
     s
 }
@@ -74,26 +79,52 @@ pub fn emit_adm(m: &Model) -> Result<Deck, EmitError> {
                 .arg("IP", list(&[PLACEHOLDER_INERTIA; 3]));
         }
         s.write(&mut o);
-        for (k, mk) in m.markers.iter().enumerate().filter(|(_, k)| k.part.index() == pi) {
+        for (k, mk) in m
+            .markers
+            .iter()
+            .enumerate()
+            .filter(|(_, k)| k.part.index() == pi)
+        {
             let p = mk.origin();
             if !(p.iter().all(|v| v.is_finite()) && mk.rotation.iter().all(|v| v.is_finite())) {
-                return Err(EmitError::NotFinite { element: format!("marker `{}`", m.marker_path(MarkerId(k as u32))), what: "its position or orientation".into() });
+                return Err(EmitError::NotFinite {
+                    element: format!("marker `{}`", m.marker_path(MarkerId(k as u32))),
+                    what: "its position or orientation".into(),
+                });
             }
             let rot = reuler(mk);
             let rot = (rot != [0.0; 3]).then_some(rot);
-            marker_stmt(plan.marker[k], pid, &m.marker_path(MarkerId(k as u32)), [p.x, p.y, p.z], rot).write(&mut o);
+            marker_stmt(
+                plan.marker[k],
+                pid,
+                &m.marker_path(MarkerId(k as u32)),
+                [p.x, p.y, p.z],
+                rot,
+            )
+            .write(&mut o);
         }
         for a in plan.aux.iter().filter(|a| a.part.index() == pi) {
             let view = format!("{}.{}", part.name, a.name);
             if a.floating {
-                Stmt::new("MARKER", Some(a.id)).named(&view).arg("PART", pid.to_string()).flag("FLOATING").write(&mut o);
+                Stmt::new("MARKER", Some(a.id))
+                    .named(&view)
+                    .arg("PART", pid.to_string())
+                    .flag("FLOATING")
+                    .write(&mut o);
             } else {
                 let rot = a.rotation.map(|r: Mat3| {
                     let (p, t, f) = matrix_to_zxz(&r);
                     [p, t, f]
                 });
                 let rot = rot.filter(|r| *r != [0.0; 3]);
-                marker_stmt(a.id, pid, &view, [a.position.x, a.position.y, a.position.z], rot).write(&mut o);
+                marker_stmt(
+                    a.id,
+                    pid,
+                    &view,
+                    [a.position.x, a.position.y, a.position.z],
+                    rot,
+                )
+                .write(&mut o);
             }
         }
     }
@@ -168,10 +199,16 @@ fn loads(o: &mut String, m: &Model, plan: &Plan) {
         ] {
             let Some((id, vars)) = grp else { continue };
             for (v, n) in vars.iter().zip(names) {
-                Stmt::new("VARIABLE", Some(*v)).named(&format!("{path}.{n}")).expr("FUNCTION", "0").write(o);
+                Stmt::new("VARIABLE", Some(*v))
+                    .named(&format!("{path}.{n}"))
+                    .expr("FUNCTION", "0")
+                    .write(o);
             }
             let mut s = Stmt::new(stmt, Some(id))
-                .named(&format!("{path}.{}", if stmt == "VFORCE" { "force" } else { "torque" }))
+                .named(&format!(
+                    "{path}.{}",
+                    if stmt == "VFORCE" { "force" } else { "torque" }
+                ))
                 .arg("I", plan.marker(g.marker).to_string())
                 .arg("JFLOAT", g.float.to_string())
                 .arg("RM", plan.global.to_string());
@@ -199,18 +236,32 @@ fn requests(o: &mut String, m: &Model, plan: &Plan) {
                 .flag("DISPLACEMENT")
                 .arg("I", mk.to_string())
                 .arg("J", g.to_string())
-                .arg("COMMENT", format!("wheel {} {what} X Y Z PSI THETA PHI", w.name))
+                .arg(
+                    "COMMENT",
+                    format!("wheel {} {what} X Y Z PSI THETA PHI", w.name),
+                )
                 .write(o);
         }
         // Toe and camber from the spin axis s = (spin - centre) / |spin - centre|
         // (conventions.md): toe-in positive, camber positive top outboard.
         let right = m.marker(w.centre).origin().y < 0.0;
-        let (dx, dy, dz) = (format!("DX({spin},{c})"), format!("DY({spin},{c})"), format!("DZ({spin},{c})"));
-        let toe = if right { format!("ATAN2({dx}, -{dy})*RTOD") } else { format!("ATAN2({dx}, {dy})*RTOD") };
+        let (dx, dy, dz) = (
+            format!("DX({spin},{c})"),
+            format!("DY({spin},{c})"),
+            format!("DZ({spin},{c})"),
+        );
+        let toe = if right {
+            format!("ATAN2({dx}, -{dy})*RTOD")
+        } else {
+            format!("ATAN2({dx}, {dy})*RTOD")
+        };
         let camber = format!("ASIN(-{dz}/DM({spin},{c}))*RTOD");
         Stmt::new("REQUEST", Some(next()))
             .named(&format!("wheel.{}.angles", w.name))
-            .arg("COMMENT", format!("wheel {} F2 toe deg F3 camber deg", w.name))
+            .arg(
+                "COMMENT",
+                format!("wheel {} F2 toe deg F3 camber deg", w.name),
+            )
             .expr("F2", toe)
             .expr("F3", camber)
             .write(o);
@@ -219,7 +270,10 @@ fn requests(o: &mut String, m: &Model, plan: &Plan) {
         let (i, j) = (plan.marker(b.i), plan.marker(b.j));
         let mut s = Stmt::new("REQUEST", Some(next()))
             .named(&format!("{}.deformation", b.name))
-            .arg("COMMENT", format!("bushing {} deformation in J axes mm and deg", b.name));
+            .arg(
+                "COMMENT",
+                format!("bushing {} deformation in J axes mm and deg", b.name),
+            );
         for (f, e) in ["F2", "F3", "F4"].iter().zip(["DX", "DY", "DZ"]) {
             s = s.expr(f, format!("{e}({i},{j},{j})"));
         }
@@ -233,7 +287,13 @@ fn requests(o: &mut String, m: &Model, plan: &Plan) {
         };
         let mut s = Stmt::new("REQUEST", Some(next()))
             .named(&format!("{}.force", b.name))
-            .arg("COMMENT", format!("bushing {} force and torque on I in J axes N and N*mm", b.name));
+            .arg(
+                "COMMENT",
+                format!(
+                    "bushing {} force and torque on I in J axes N and N*mm",
+                    b.name
+                ),
+            );
         for c in [2, 3, 4, 6, 7, 8] {
             s = s.expr(&format!("F{c}"), format!("{func}({fid},0,{c},{j})"));
         }

@@ -30,7 +30,10 @@ impl fmt::Display for EmitError {
                 write!(f, "{element}: {what} is not a finite number")
             }
             EmitError::BadTable { element, detail } => {
-                write!(f, "{element}: its table cannot be an ADAMS SPLINE: {detail}")
+                write!(
+                    f,
+                    "{element}: its table cannot be an ADAMS SPLINE: {detail}"
+                )
             }
             EmitError::UnresolvedLoad { set, channel } => write!(
                 f,
@@ -47,7 +50,11 @@ impl fmt::Display for EmitError {
             EmitError::UnknownLoadSet { name, known } => write!(
                 f,
                 "no load set `{name}` (known: {})",
-                if known.is_empty() { "none".to_string() } else { known.join(", ") }
+                if known.is_empty() {
+                    "none".to_string()
+                } else {
+                    known.join(", ")
+                }
             ),
             EmitError::NoLoadSet => write!(f, "the model has no load set to write"),
             EmitError::NoGround => write!(f, "the model has no ground part"),

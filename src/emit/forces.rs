@@ -11,19 +11,30 @@ use crate::model::*;
 /// A coefficient in an expression, parenthesised when negative.
 fn c(v: f64) -> String {
     let s = num(v);
-    if s.starts_with('-') { format!("({s})") } else { s }
+    if s.starts_with('-') {
+        format!("({s})")
+    } else {
+        s
+    }
 }
 
 /// `x - a`, or `x` when `a` is zero.
 fn minus(x: &str, a: f64) -> String {
-    if a == 0.0 { x.to_string() } else { format!("{x} - {}", c(a)) }
+    if a == 0.0 {
+        x.to_string()
+    } else {
+        format!("{x} - {}", c(a))
+    }
 }
 
 fn finite(element: &str, what: &str, vals: &[f64]) -> Result<(), EmitError> {
     if vals.iter().all(|v| v.is_finite()) {
         Ok(())
     } else {
-        Err(EmitError::NotFinite { element: element.into(), what: what.into() })
+        Err(EmitError::NotFinite {
+            element: element.into(),
+            what: what.into(),
+        })
     }
 }
 
@@ -35,7 +46,10 @@ pub fn spline_points(element: &str, t: &Table) -> Result<Vec<(f64, f64)>, EmitEr
     let flat: Vec<f64> = p.iter().flat_map(|q| [q.0, q.1]).collect();
     finite(element, "a table point", &flat)?;
     if p.len() < 2 || p.windows(2).any(|w| !(w[1].0 > w[0].0)) {
-        return Err(EmitError::BadTable { element: element.into(), detail: "x must increase through at least 2 points".into() });
+        return Err(EmitError::BadTable {
+            element: element.into(),
+            detail: "x must increase through at least 2 points".into(),
+        });
     }
     while p.len() < 4 {
         let k = (0..p.len() - 1)
@@ -68,9 +82,23 @@ pub fn bushing(out: &mut String, m: &Model, plan: &Plan, idx: usize) -> Result<(
     let name = format!("bushing `{}`", b.name);
     let (i, j) = (plan.marker(b.i), plan.marker(b.j));
     let laws: Vec<&AxisLaw> = b.translational.iter().chain(&b.rotational).collect();
-    let offs: Vec<f64> = b.offset.iter().chain(&b.angle_offset).map(|v| v.value).collect();
-    let pre: Vec<f64> = b.preload.iter().chain(&b.torque_preload).map(|v| v.value).collect();
-    finite(&name, "an offset or preload", &[offs.clone(), pre.clone()].concat())?;
+    let offs: Vec<f64> = b
+        .offset
+        .iter()
+        .chain(&b.angle_offset)
+        .map(|v| v.value)
+        .collect();
+    let pre: Vec<f64> = b
+        .preload
+        .iter()
+        .chain(&b.torque_preload)
+        .map(|v| v.value)
+        .collect();
+    finite(
+        &name,
+        "an offset or preload",
+        &[offs.clone(), pre.clone()].concat(),
+    )?;
     match &plan.bushings[idx] {
         BushingForm::Linear { id } => {
             let k: Vec<f64> = laws.iter().map(|l| l.initial_stiffness()).collect();
@@ -79,7 +107,10 @@ pub fn bushing(out: &mut String, m: &Model, plan: &Plan, idx: usize) -> Result<(
             // = -k t + (F0 + k t0). BUSHING has no offset argument, so the offset
             // goes into FORCE/TORQUE exactly (the importer reads it back as a preload).
             let f: Vec<f64> = (0..6).map(|n| pre[n] + k[n] * offs[n]).collect();
-            let mut s = Stmt::new("BUSHING", Some(*id)).named(&b.name).arg("I", i.to_string()).arg("J", j.to_string());
+            let mut s = Stmt::new("BUSHING", Some(*id))
+                .named(&b.name)
+                .arg("I", i.to_string())
+                .arg("J", j.to_string());
             s = s.arg("K", list(&k[..3])).arg("KT", list(&k[3..]));
             if f[..3].iter().any(|v| *v != 0.0) {
                 s = s.arg("FORCE", list(&f[..3]));
@@ -92,7 +123,11 @@ pub fn bushing(out: &mut String, m: &Model, plan: &Plan, idx: usize) -> Result<(
         BushingForm::General { id, float, splines } => {
             let mut exprs = Vec::new();
             for n in 0..6 {
-                let x = if n < 3 { format!("{}({i},{j},{j})", MEASURE[n]) } else { format!("{}({i},{j})", MEASURE[n]) };
+                let x = if n < 3 {
+                    format!("{}({i},{j},{j})", MEASURE[n])
+                } else {
+                    format!("{}({i},{j})", MEASURE[n])
+                };
                 let law = match laws[n] {
                     AxisLaw::Linear { k, k3 } if k3.value == 0.0 => {
                         finite(&name, "a stiffness", &[k.value])?;
@@ -108,7 +143,8 @@ pub fn bushing(out: &mut String, m: &Model, plan: &Plan, idx: usize) -> Result<(
                     }
                     AxisLaw::Table(t) => {
                         let sid = splines[n].unwrap_or(0);
-                        let view = format!("{}.{}", b.name, ["fx", "fy", "fz", "tx", "ty", "tz"][n]);
+                        let view =
+                            format!("{}.{}", b.name, ["fx", "fy", "fz", "tx", "ty", "tz"][n]);
                         spline(out, sid, &view, &spline_points(&name, t)?);
                         format!("-AKISPL({}, 0, {sid})", minus(&x, offs[n]))
                     }
@@ -130,7 +166,11 @@ pub fn bushing(out: &mut String, m: &Model, plan: &Plan, idx: usize) -> Result<(
 }
 
 fn with_const(e: String, f0: f64) -> String {
-    if f0 == 0.0 { e } else { format!("{e} + {}", c(f0)) }
+    if f0 == 0.0 {
+        e
+    } else {
+        format!("{e} + {}", c(f0))
+    }
 }
 
 /// The polynomial `c1 p + c2 p² + …` of a penetration expression `p`.
@@ -138,18 +178,43 @@ fn poly(coefs: &[Val], p: &str) -> String {
     let terms: Vec<String> = coefs
         .iter()
         .enumerate()
-        .map(|(n, v)| if n == 0 { format!("{}*{p}", c(v.value)) } else { format!("{}*{p}**{}", c(v.value), n + 1) })
+        .map(|(n, v)| {
+            if n == 0 {
+                format!("{}*{p}", c(v.value))
+            } else {
+                format!("{}*{p}**{}", c(v.value), n + 1)
+            }
+        })
         .collect();
-    if terms.is_empty() { "0".into() } else { terms.join(" + ") }
+    if terms.is_empty() {
+        "0".into()
+    } else {
+        terms.join(" + ")
+    }
 }
 
-pub fn spring(out: &mut String, m: &Model, plan: &Plan, idx: usize, sforce_id: &mut u32, sd_id: &mut u32) -> Result<(), EmitError> {
+pub fn spring(
+    out: &mut String,
+    m: &Model,
+    plan: &Plan,
+    idx: usize,
+    sforce_id: &mut u32,
+    sd_id: &mut u32,
+) -> Result<(), EmitError> {
     let s = &m.springs[idx];
     let name = format!("spring `{}`", s.name);
     let (i, j) = (plan.marker(s.i), plan.marker(s.j));
     match &s.law {
-        SpringLaw::Linear { k, free_length, preload } if k.value >= 0.0 => {
-            finite(&name, "a value", &[k.value, free_length.value, preload.value])?;
+        SpringLaw::Linear {
+            k,
+            free_length,
+            preload,
+        } if k.value >= 0.0 => {
+            finite(
+                &name,
+                "a value",
+                &[k.value, free_length.value, preload.value],
+            )?;
             *sd_id += 1;
             let mut st = Stmt::new("SPRINGDAMPER", Some(*sd_id))
                 .named(&s.name)
@@ -168,13 +233,29 @@ pub fn spring(out: &mut String, m: &Model, plan: &Plan, idx: usize, sforce_id: &
             // SPRINGDAMPER needs K >= 0; a negative rate and tables go to SFORCE,
             // whose positive value pushes I and J apart.
             let f = match law {
-                SpringLaw::Linear { k, free_length, preload } => {
-                    finite(&name, "a value", &[k.value, free_length.value, preload.value])?;
-                    with_const(format!("{}*({} - DM({i},{j}))", c(k.value), num(free_length.value)), preload.value)
+                SpringLaw::Linear {
+                    k,
+                    free_length,
+                    preload,
+                } => {
+                    finite(
+                        &name,
+                        "a value",
+                        &[k.value, free_length.value, preload.value],
+                    )?;
+                    with_const(
+                        format!("{}*({} - DM({i},{j}))", c(k.value), num(free_length.value)),
+                        preload.value,
+                    )
                 }
                 SpringLaw::Table(t) => {
                     let sid = plan.spring_splines[idx].unwrap_or(0);
-                    spline(out, sid, &format!("{}.law", s.name), &spline_points(&name, t)?);
+                    spline(
+                        out,
+                        sid,
+                        &format!("{}.law", s.name),
+                        &spline_points(&name, t)?,
+                    );
                     format!("AKISPL(DM({i},{j}), 0, {sid})")
                 }
             };
@@ -191,7 +272,13 @@ pub fn spring(out: &mut String, m: &Model, plan: &Plan, idx: usize, sforce_id: &
     Ok(())
 }
 
-pub fn stop(out: &mut String, m: &Model, plan: &Plan, idx: usize, sforce_id: &mut u32) -> Result<(), EmitError> {
+pub fn stop(
+    out: &mut String,
+    m: &Model,
+    plan: &Plan,
+    idx: usize,
+    sforce_id: &mut u32,
+) -> Result<(), EmitError> {
     let s = &m.stops[idx];
     let name = format!("stop `{}`", s.name);
     let (i, j) = (plan.marker(s.i), plan.marker(s.j));
@@ -204,12 +291,21 @@ pub fn stop(out: &mut String, m: &Model, plan: &Plan, idx: usize, sforce_id: &mu
     };
     let f = match &s.law {
         StopLaw::Polynomial(cs) => {
-            finite(&name, "a coefficient", &cs.iter().map(|v| v.value).collect::<Vec<_>>())?;
+            finite(
+                &name,
+                "a coefficient",
+                &cs.iter().map(|v| v.value).collect::<Vec<_>>(),
+            )?;
             poly(cs, &pen)
         }
         StopLaw::Table(t) => {
             let sid = plan.stop_splines[idx].unwrap_or(0);
-            spline(out, sid, &format!("{}.law", s.name), &spline_points(&name, t)?);
+            spline(
+                out,
+                sid,
+                &format!("{}.law", s.name),
+                &spline_points(&name, t)?,
+            );
             format!("AKISPL({}, 0, {sid})", &pen[1..pen.len() - 1])
         }
     };

@@ -8,8 +8,25 @@ use super::writer::num;
 use crate::model::*;
 
 const COLUMNS: [&str; 19] = [
-    "whl_z_l", "whl_z_r", "lat_l", "lat_r", "dam_rad_l", "dam_rad_r", "dam_for_l", "dam_for_r", "align_l", "align_r",
-    "brake_l", "brake_r", "drive_l", "drive_r", "otm_l", "otm_r", "rollres_l", "rollres_r", "steer",
+    "whl_z_l",
+    "whl_z_r",
+    "lat_l",
+    "lat_r",
+    "dam_rad_l",
+    "dam_rad_r",
+    "dam_for_l",
+    "dam_for_r",
+    "align_l",
+    "align_r",
+    "brake_l",
+    "brake_r",
+    "drive_l",
+    "drive_r",
+    "otm_l",
+    "otm_r",
+    "rollres_l",
+    "rollres_r",
+    "steer",
 ];
 
 /// The wheel a channel loads, or an error naming the channel.
@@ -22,13 +39,19 @@ fn wheel_of(m: &Model, set: &LoadSet, ch: &Channel) -> Result<WheelId, EmitError
     match ch.target {
         LoadTarget::Wheel(w) => Ok(w),
         LoadTarget::DefaultWheel if m.wheels.len() == 1 => Ok(WheelId(0)),
-        LoadTarget::DefaultWheel => Err(EmitError::UnresolvedLoad { set: set.name.clone(), channel: name() }),
+        LoadTarget::DefaultWheel => Err(EmitError::UnresolvedLoad {
+            set: set.name.clone(),
+            channel: name(),
+        }),
         LoadTarget::Marker(mk) => m
             .wheels
             .iter()
             .position(|w| w.contact == mk)
             .map(|k| WheelId(k as u32))
-            .ok_or_else(|| EmitError::NotAWheelLoad { set: set.name.clone(), channel: name() }),
+            .ok_or_else(|| EmitError::NotAWheelLoad {
+                set: set.name.clone(),
+                channel: name(),
+            }),
     }
 }
 
@@ -40,7 +63,10 @@ pub fn emit_lcf(m: &Model, set: LoadSetId) -> Result<String, EmitError> {
     for w in &m.wheels {
         let side = usize::from(m.marker(w.centre).origin().y < 0.0);
         if let Some(other) = taken[side] {
-            return Err(EmitError::WheelSide { wheel: w.name.clone(), other: other.to_string() });
+            return Err(EmitError::WheelSide {
+                wheel: w.name.clone(),
+                other: other.to_string(),
+            });
         }
         taken[side] = Some(&w.name);
         side_of.push(side);
@@ -52,9 +78,14 @@ pub fn emit_lcf(m: &Model, set: LoadSetId) -> Result<String, EmitError> {
     let mut o = String::new();
     let bar = |o: &mut String, t: &str| o.push_str(&format!("${}{t}\n", "-".repeat(79 - t.len())));
     bar(&mut o, "MDI_HEADER");
-    o.push_str("[MDI_HEADER]\n FILE_TYPE     =  'lcf'\n FILE_VERSION  =  6.0\n FILE_FORMAT   =  'ascii'\n");
+    o.push_str(
+        "[MDI_HEADER]\n FILE_TYPE     =  'lcf'\n FILE_VERSION  =  6.0\n FILE_FORMAT   =  'ascii'\n",
+    );
     o.push_str("(COMMENTS)\n{comment_string}\n");
-    o.push_str(&format!("'axle model {} -- load set {} -- Static Load'\n", m.name, ls.name));
+    o.push_str(&format!(
+        "'axle model {} -- load set {} -- Static Load'\n",
+        m.name, ls.name
+    ));
     bar(&mut o, "UNITS");
     o.push_str("[UNITS]\n LENGTH  =  'mm'\n FORCE   =  'newton'\n ANGLE   =  'deg'\n MASS    =  'kg'\n TIME    =  'sec'\n");
     bar(&mut o, "MODE");
@@ -74,7 +105,10 @@ pub fn emit_lcf(m: &Model, set: LoadSetId) -> Result<String, EmitError> {
         let mut row = [0.0f64; 19];
         for ((ch, v), side) in ls.channels.iter().zip(&case.values).zip(&targets) {
             if !v.is_finite() {
-                return Err(EmitError::NotFinite { element: format!("load case `{}`", case.name), what: "a load".into() });
+                return Err(EmitError::NotFinite {
+                    element: format!("load case `{}`", case.name),
+                    what: "a load".into(),
+                });
             }
             let (col, val) = match ch.component {
                 Component::Fz => (0, *v),

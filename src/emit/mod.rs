@@ -21,10 +21,12 @@ use crate::model::{LoadSetId, Model};
 /// The load set named `name`, else the model's default set, else its first set.
 pub fn load_set(m: &Model, name: Option<&str>) -> Result<LoadSetId, EmitError> {
     match name {
-        Some(n) => m.load_set_named(n).ok_or_else(|| EmitError::UnknownLoadSet {
-            name: n.to_string(),
-            known: m.load_sets.iter().map(|s| s.name.clone()).collect(),
-        }),
+        Some(n) => m
+            .load_set_named(n)
+            .ok_or_else(|| EmitError::UnknownLoadSet {
+                name: n.to_string(),
+                known: m.load_sets.iter().map(|s| s.name.clone()).collect(),
+            }),
         None => m
             .default_load_set
             .or_else(|| (!m.load_sets.is_empty()).then_some(LoadSetId(0)))

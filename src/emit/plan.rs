@@ -33,7 +33,11 @@ pub enum BushingForm {
     /// `BUSHING/id`: all six laws linear without cubic term.
     Linear { id: u32 },
     /// `GFORCE/id` with a floating reaction marker and one SPLINE per tabulated axis.
-    General { id: u32, float: u32, splines: [Option<u32>; 6] },
+    General {
+        id: u32,
+        float: u32,
+        splines: [Option<u32>; 6],
+    },
 }
 
 /// External loads at one marker: VFORCE/VTORQUE ids and their VARIABLE ids.
@@ -79,7 +83,10 @@ pub fn channel_marker(m: &Model, set: &LoadSet, ch: &Channel) -> Result<MarkerId
 /// Where a part's placeholder CM goes: at its first marker, a position that is
 /// already in the deck (a centroid would change in its last digit on re-import).
 fn cm_position(m: &Model, p: PartId) -> Vec3 {
-    m.markers.iter().find(|k| k.part == p).map_or(Vec3::zeros(), |k| k.origin())
+    m.markers
+        .iter()
+        .find(|k| k.part == p)
+        .map_or(Vec3::zeros(), |k| k.origin())
 }
 
 impl Plan {
@@ -89,42 +96,92 @@ impl Plan {
         let marker: Vec<u32> = (0..m.markers.len() as u32).map(|k| k + 1).collect();
         let mut next = m.markers.len() as u32 + 1;
         let mut aux = Vec::new();
-        let mut add = |aux: &mut Vec<AuxMarker>, part: PartId, name: String, position: Vec3, rotation: Option<Mat3>, floating: bool| {
+        let mut add = |aux: &mut Vec<AuxMarker>,
+                       part: PartId,
+                       name: String,
+                       position: Vec3,
+                       rotation: Option<Mat3>,
+                       floating: bool| {
             let id = next;
             next += 1;
-            aux.push(AuxMarker { id, part, name, position, rotation, floating });
+            aux.push(AuxMarker {
+                id,
+                part,
+                name,
+                position,
+                rotation,
+                floating,
+            });
             id
         };
-        let global = add(&mut aux, ground, "axle_global".into(), Vec3::zeros(), Some(Mat3::identity()), false);
+        let global = add(
+            &mut aux,
+            ground,
+            "axle_global".into(),
+            Vec3::zeros(),
+            Some(Mat3::identity()),
+            false,
+        );
         let mut cm = vec![None; m.parts.len()];
         for p in m.moving_parts() {
-            cm[p.index()] = Some(add(&mut aux, p, "axle_cm".into(), cm_position(m, p), None, false));
+            cm[p.index()] = Some(add(
+                &mut aux,
+                p,
+                "axle_cm".into(),
+                cm_position(m, p),
+                None,
+                false,
+            ));
         }
         let mut spin = Vec::new();
         for w in &m.wheels {
             let c = m.marker(w.centre);
             let s: Vec3 = c.rotation.column(2).into();
-            spin.push(add(&mut aux, c.part, format!("axle_spin_{}", w.name), c.origin() + s * SPIN_ARM, None, false));
+            spin.push(add(
+                &mut aux,
+                c.part,
+                format!("axle_spin_{}", w.name),
+                c.origin() + s * SPIN_ARM,
+                None,
+                false,
+            ));
         }
         let (mut bushing_n, mut gforce_n, mut spline_n) = (0, 0, 0);
         let mut bushings = Vec::new();
         for b in &m.bushings {
-            let linear = b.translational.iter().chain(&b.rotational).all(|l| matches!(l, AxisLaw::Linear { k, k3 } if k3.value == 0.0 && k.value >= 0.0));
+            let linear = b.translational.iter().chain(&b.rotational).all(
+                |l| matches!(l, AxisLaw::Linear { k, k3 } if k3.value == 0.0 && k.value >= 0.0),
+            );
             if linear {
                 bushing_n += 1;
                 bushings.push(BushingForm::Linear { id: bushing_n });
             } else {
                 gforce_n += 1;
                 let jpart = m.marker(b.j).part;
-                let float = add(&mut aux, jpart, format!("axle_float_{}", b.name), Vec3::zeros(), None, true);
+                let float = add(
+                    &mut aux,
+                    jpart,
+                    format!("axle_float_{}", b.name),
+                    Vec3::zeros(),
+                    None,
+                    true,
+                );
                 let splines = std::array::from_fn(|k| {
-                    let law = if k < 3 { &b.translational[k] } else { &b.rotational[k - 3] };
+                    let law = if k < 3 {
+                        &b.translational[k]
+                    } else {
+                        &b.rotational[k - 3]
+                    };
                     matches!(law, AxisLaw::Table(_)).then(|| {
                         spline_n += 1;
                         spline_n
                     })
                 });
-                bushings.push(BushingForm::General { id: gforce_n, float, splines });
+                bushings.push(BushingForm::General {
+                    id: gforce_n,
+                    float,
+                    splines,
+                });
             }
         }
         let mut table = |is_table: bool| {
@@ -133,8 +190,16 @@ impl Plan {
                 spline_n
             })
         };
-        let spring_splines = m.springs.iter().map(|s| table(matches!(s.law, SpringLaw::Table(_)))).collect();
-        let stop_splines = m.stops.iter().map(|s| table(matches!(s.law, StopLaw::Table(_)))).collect();
+        let spring_splines = m
+            .springs
+            .iter()
+            .map(|s| table(matches!(s.law, SpringLaw::Table(_))))
+            .collect();
+        let stop_splines = m
+            .stops
+            .iter()
+            .map(|s| table(matches!(s.law, StopLaw::Table(_))))
+            .collect();
         // Load groups: every marker any set loads, in first-use order; force and
         // torque components only when some set uses them. Loads on ground do nothing.
         let mut used: Vec<(MarkerId, bool, bool)> = Vec::new();
@@ -151,7 +216,11 @@ impl Plan {
                         used.len() - 1
                     }
                 };
-                if ch.component.is_torque() { used[pos].2 = true } else { used[pos].1 = true }
+                if ch.component.is_torque() {
+                    used[pos].2 = true
+                } else {
+                    used[pos].1 = true
+                }
             }
         }
         let (mut var_n, mut vf_n, mut vt_n) = (0, 0, 0);
@@ -162,7 +231,14 @@ impl Plan {
         };
         let mut loads = Vec::new();
         for (mk, f, t) in used {
-            let float = add(&mut aux, ground, format!("axle_float_{}", m.marker_path(mk).replace('.', "_")), Vec3::zeros(), None, true);
+            let float = add(
+                &mut aux,
+                ground,
+                format!("axle_float_{}", m.marker_path(mk).replace('.', "_")),
+                Vec3::zeros(),
+                None,
+                true,
+            );
             let vforce = f.then(|| {
                 vf_n += 1;
                 (vf_n, vars())
@@ -171,9 +247,25 @@ impl Plan {
                 vt_n += 1;
                 (vt_n, vars())
             });
-            loads.push(LoadGroup { marker: mk, float, vforce, vtorque });
+            loads.push(LoadGroup {
+                marker: mk,
+                float,
+                vforce,
+                vtorque,
+            });
         }
-        Ok(Plan { part, marker, global, aux, cm, bushings, spring_splines, stop_splines, loads, spin })
+        Ok(Plan {
+            part,
+            marker,
+            global,
+            aux,
+            cm,
+            bushings,
+            spring_splines,
+            stop_splines,
+            loads,
+            spin,
+        })
     }
 
     pub fn marker(&self, m: MarkerId) -> u32 {

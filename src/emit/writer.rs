@@ -203,7 +203,9 @@ mod tests {
     fn long_lists_wrap_at_commas_within_80_columns() {
         let vals: Vec<f64> = (0..40).map(|k| k as f64 * 1234.5678).collect();
         let mut out = String::new();
-        Stmt::new("SPLINE", Some(1)).arg("X", list(&vals)).write(&mut out);
+        Stmt::new("SPLINE", Some(1))
+            .arg("X", list(&vals))
+            .write(&mut out);
         assert!(out.lines().all(|l| l.len() <= MAX_LINE), "{out}");
         let joined: String = out.lines().skip(1).collect::<Vec<_>>().join("");
         assert_eq!(joined.matches(',').count(), 40);

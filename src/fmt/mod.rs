@@ -9,7 +9,7 @@ pub use model::print_model;
 use crate::diagnostic::Diagnostic;
 use crate::span::{FileId, Span};
 use crate::syntax::ast::*;
-use crate::syntax::trivia::{comments, Comment};
+use crate::syntax::trivia::{Comment, comments};
 
 const INDENT: &str = "    ";
 
@@ -21,7 +21,14 @@ pub fn format_source(file: FileId, text: &str) -> Result<String, Diagnostic> {
 
 /// Formats a parsed file; `text` is the source it was parsed from.
 pub fn format_file(ast: &File, text: &str) -> String {
-    let mut f = Formatter { text, comments: comments(text), next: 0, out: String::new(), last_end: 0, force_blank: false };
+    let mut f = Formatter {
+        text,
+        comments: comments(text),
+        next: 0,
+        out: String::new(),
+        last_end: 0,
+        force_blank: false,
+    };
     for item in &ast.items {
         f.item(item);
     }
@@ -118,10 +125,19 @@ impl Formatter<'_> {
                 }
             }
         }
-        Span { end: end as u32, ..span }
+        Span {
+            end: end as u32,
+            ..span
+        }
     }
 
-    fn statement(&mut self, span: Span, indent: &str, keep_blank: bool, canonical: impl FnOnce() -> String) {
+    fn statement(
+        &mut self,
+        span: Span,
+        indent: &str,
+        keep_blank: bool,
+        canonical: impl FnOnce() -> String,
+    ) {
         let span = self.code_span(span);
         self.flush_leading(span.start as usize, indent, keep_blank);
         self.out.push_str(indent);
@@ -129,7 +145,11 @@ impl Formatter<'_> {
             let src = &self.text[span.range()];
             self.out.push_str(src.trim_end());
             // Comments inside were printed with the text.
-            while self.comments.get(self.next).is_some_and(|c| c.offset < span.end as usize) {
+            while self
+                .comments
+                .get(self.next)
+                .is_some_and(|c| c.offset < span.end as usize)
+            {
                 self.next += 1;
             }
         } else {
@@ -145,7 +165,9 @@ impl Formatter<'_> {
         self.out.push_str(&head);
         self.out.push_str(" {");
         // The `{` is the first `{` after the head; a comment may follow it.
-        let brace = self.text[span.range()].find('{').map_or(span.start as usize, |i| span.start as usize + i + 1);
+        let brace = self.text[span.range()]
+            .find('{')
+            .map_or(span.start as usize, |i| span.start as usize + i + 1);
         self.end_line(brace);
     }
 
@@ -159,9 +181,15 @@ impl Formatter<'_> {
 
     fn item(&mut self, item: &Item) {
         match &item.kind {
-            ItemKind::Model(n) => self.statement(item.span, "", true, || format!("model {}", n.name)),
-            ItemKind::Import(n) => self.statement(item.span, "", true, || format!("import {}", n.name)),
-            ItemKind::DefaultLoads(n) => self.statement(item.span, "", true, || format!("default loads {}", n.name)),
+            ItemKind::Model(n) => {
+                self.statement(item.span, "", true, || format!("model {}", n.name))
+            }
+            ItemKind::Import(n) => {
+                self.statement(item.span, "", true, || format!("import {}", n.name))
+            }
+            ItemKind::DefaultLoads(n) => {
+                self.statement(item.span, "", true, || format!("default loads {}", n.name))
+            }
             ItemKind::Param(p) => self.statement(item.span, "", true, || print::param(p)),
             ItemKind::Part(p) => {
                 let kw = if p.ground { "ground" } else { "part" };
@@ -169,7 +197,9 @@ impl Formatter<'_> {
                 for (n, pi) in p.items.iter().enumerate() {
                     let keep = n > 0;
                     match pi {
-                        PartItem::Marker(m) => self.statement(m.span, INDENT, keep, || print::marker(m)),
+                        PartItem::Marker(m) => {
+                            self.statement(m.span, INDENT, keep, || print::marker(m))
+                        }
                         PartItem::Landmark(l) => self.statement(l.span, INDENT, keep, || {
                             format!("landmark {} at {}", l.name.name, print::vector(&l.at))
                         }),
@@ -184,7 +214,9 @@ impl Formatter<'_> {
                 }
                 self.open_block(item.span, head);
                 for (n, p) in e.props.iter().enumerate() {
-                    self.statement(p.span, INDENT, n > 0, || format!("{} {}", p.key.name, print::value(&p.value, INDENT)));
+                    self.statement(p.span, INDENT, n > 0, || {
+                        format!("{} {}", p.key.name, print::value(&p.value, INDENT))
+                    });
                 }
                 self.close_block(item.span);
             }
@@ -195,8 +227,14 @@ impl Formatter<'_> {
     fn loads(&mut self, span: Span, l: &LoadsDecl) {
         match &l.body {
             LoadsBody::Table { columns, rows } => {
-                let cols: Vec<String> = columns.iter().map(|c| format!("{} {}", c.channel.text(), c.unit.text)).collect();
-                let head_span = Span { end: columns.last().map_or(span.end, |c| c.span.end), ..span };
+                let cols: Vec<String> = columns
+                    .iter()
+                    .map(|c| format!("{} {}", c.channel.text(), c.unit.text))
+                    .collect();
+                let head_span = Span {
+                    end: columns.last().map_or(span.end, |c| c.span.end),
+                    ..span
+                };
                 let head = format!("loads {} table ({})", l.name.name, cols.join(", "));
                 if self.has_inner_comment(head_span) {
                     // Keep a commented header as written, up to the brace.

@@ -4,7 +4,7 @@
 
 use crate::geom::Vec3;
 use crate::model::*;
-use crate::units::{to_boundary, Dim};
+use crate::units::{Dim, to_boundary};
 use std::fmt::Write;
 
 /// A number in boundary units, shortest form that survives unit conversion
@@ -44,8 +44,16 @@ fn vec3(m: &Model, v: &Val3, dim: Dim) -> String {
             .collect();
         return format!("({})", parts.join(", "));
     }
-    let body = v.iter().map(|x| val(m, x, dim)).collect::<Vec<_>>().join(", ");
-    if unit.is_empty() { format!("({body})") } else { format!("({body}) {unit}") }
+    let body = v
+        .iter()
+        .map(|x| val(m, x, dim))
+        .collect::<Vec<_>>()
+        .join(", ");
+    if unit.is_empty() {
+        format!("({body})")
+    } else {
+        format!("({body}) {unit}")
+    }
 }
 
 fn plain3(v: &Vec3) -> String {
@@ -63,9 +71,20 @@ fn table(t: &Table, x: Dim, y: Dim) -> String {
     let pts: Vec<String> = t
         .points
         .iter()
-        .map(|(a, b)| format!("({}, {})", number(to_boundary(*a, x)), number(to_boundary(*b, y))))
+        .map(|(a, b)| {
+            format!(
+                "({}, {})",
+                number(to_boundary(*a, x)),
+                number(to_boundary(*b, y))
+            )
+        })
         .collect();
-    format!("table ({}, {}) [{}]", x.boundary_unit(), y.boundary_unit(), pts.join(", "))
+    format!(
+        "table ({}, {}) [{}]",
+        x.boundary_unit(),
+        y.boundary_unit(),
+        pts.join(", ")
+    )
 }
 
 pub fn print_model(m: &Model) -> String {
@@ -84,7 +103,12 @@ pub fn print_model(m: &Model) -> String {
         o.push('\n');
     }
     for p in &m.params {
-        let _ = write!(o, "param {} = {}", p.name, number(to_boundary(p.value, p.dim)));
+        let _ = write!(
+            o,
+            "param {} = {}",
+            p.name,
+            number(to_boundary(p.value, p.dim))
+        );
         let unit = p.dim.boundary_unit();
         if !unit.is_empty() {
             let _ = write!(o, " {unit}");
@@ -106,7 +130,12 @@ pub fn print_model(m: &Model) -> String {
         let kw = if part.ground { "ground" } else { "part" };
         let _ = writeln!(o, "\n{kw} {} {{", part.name);
         for mk in m.markers.iter().filter(|x| x.part.index() == pi) {
-            let _ = write!(o, "    marker {} at {}", mk.name, vec3(m, &mk.position, Dim::LENGTH));
+            let _ = write!(
+                o,
+                "    marker {} at {}",
+                mk.name,
+                vec3(m, &mk.position, Dim::LENGTH)
+            );
             match &mk.orientation {
                 Orientation::Identity => {}
                 Orientation::Euler(a) => {
@@ -122,22 +151,41 @@ pub fn print_model(m: &Model) -> String {
             o.push('\n');
         }
         for l in m.landmarks.iter().filter(|x| x.part.index() == pi) {
-            let _ = writeln!(o, "    landmark {} at {}", l.name, vec3(m, &l.position, Dim::LENGTH));
+            let _ = writeln!(
+                o,
+                "    landmark {} at {}",
+                l.name,
+                vec3(m, &l.position, Dim::LENGTH)
+            );
         }
         o.push_str("}\n");
     }
     for j in &m.joints {
         let _ = writeln!(o, "\njoint {} {} {{", j.name, j.kind.keyword());
-        let _ = writeln!(o, "    i {}\n    j {}\n}}", m.marker_path(j.i), m.marker_path(j.j));
+        let _ = writeln!(
+            o,
+            "    i {}\n    j {}\n}}",
+            m.marker_path(j.i),
+            m.marker_path(j.j)
+        );
     }
     for b in &m.bushings {
         bushing(&mut o, m, b);
     }
     for s in &m.springs {
         let _ = writeln!(o, "\nspring {} {{", s.name);
-        let _ = writeln!(o, "    i {}\n    j {}", m.marker_path(s.i), m.marker_path(s.j));
+        let _ = writeln!(
+            o,
+            "    i {}\n    j {}",
+            m.marker_path(s.i),
+            m.marker_path(s.j)
+        );
         match &s.law {
-            SpringLaw::Linear { k, free_length, preload } => {
+            SpringLaw::Linear {
+                k,
+                free_length,
+                preload,
+            } => {
                 let _ = writeln!(o, "    k {}", scalar(m, k, Dim::STIFFNESS));
                 let _ = writeln!(o, "    free_length {}", scalar(m, free_length, Dim::LENGTH));
                 if preload.value != 0.0 || preload.param.is_some() {
@@ -156,14 +204,27 @@ pub fn print_model(m: &Model) -> String {
             StopKind::Rebound => "rebound",
         };
         let _ = writeln!(o, "\nstop {} {kind} {{", s.name);
-        let _ = writeln!(o, "    i {}\n    j {}", m.marker_path(s.i), m.marker_path(s.j));
-        let _ = writeln!(o, "    contact_length {}", scalar(m, &s.contact_length, Dim::LENGTH));
+        let _ = writeln!(
+            o,
+            "    i {}\n    j {}",
+            m.marker_path(s.i),
+            m.marker_path(s.j)
+        );
+        let _ = writeln!(
+            o,
+            "    contact_length {}",
+            scalar(m, &s.contact_length, Dim::LENGTH)
+        );
         match &s.law {
             StopLaw::Polynomial(c) if c.len() == 1 => {
                 let _ = writeln!(o, "    k {}", scalar(m, &c[0], Dim::STIFFNESS));
             }
             StopLaw::Polynomial(c) => {
-                let items: Vec<String> = c.iter().enumerate().map(|(n, v)| scalar(m, v, Dim::new(-(n as i8) - 1, 1, 0))).collect();
+                let items: Vec<String> = c
+                    .iter()
+                    .enumerate()
+                    .map(|(n, v)| scalar(m, v, Dim::new(-(n as i8) - 1, 1, 0)))
+                    .collect();
                 let _ = writeln!(o, "    poly [{}]", items.join(", "));
             }
             StopLaw::Table(t) => {
@@ -173,7 +234,13 @@ pub fn print_model(m: &Model) -> String {
         o.push_str("}\n");
     }
     for w in &m.wheels {
-        let _ = writeln!(o, "\nwheel {} {{\n    centre {}\n    contact {}\n}}", w.name, m.marker_path(w.centre), m.marker_path(w.contact));
+        let _ = writeln!(
+            o,
+            "\nwheel {} {{\n    centre {}\n    contact {}\n}}",
+            w.name,
+            m.marker_path(w.centre),
+            m.marker_path(w.contact)
+        );
     }
     for (si, set) in m.load_sets.iter().enumerate() {
         if !m.imported_load_sets.contains(&LoadSetId(si as u32)) {
@@ -185,10 +252,27 @@ pub fn print_model(m: &Model) -> String {
 
 fn bushing(o: &mut String, m: &Model, b: &Bushing) {
     let _ = writeln!(o, "\nbushing {} {{", b.name);
-    let _ = writeln!(o, "    i {}\n    j {}", m.marker_path(b.i), m.marker_path(b.j));
+    let _ = writeln!(
+        o,
+        "    i {}\n    j {}",
+        m.marker_path(b.i),
+        m.marker_path(b.j)
+    );
     for (laws, base, dim, x, y) in [
-        (&b.translational, "k", Dim::STIFFNESS, Dim::LENGTH, Dim::FORCE),
-        (&b.rotational, "kt", Dim::ROT_STIFFNESS, Dim::ANGLE, Dim::TORQUE),
+        (
+            &b.translational,
+            "k",
+            Dim::STIFFNESS,
+            Dim::LENGTH,
+            Dim::FORCE,
+        ),
+        (
+            &b.rotational,
+            "kt",
+            Dim::ROT_STIFFNESS,
+            Dim::ANGLE,
+            Dim::TORQUE,
+        ),
     ] {
         let lin: Vec<Option<Val>> = laws
             .iter()
@@ -251,18 +335,36 @@ fn channel_name(m: &Model, c: &Channel) -> String {
 }
 
 fn load_set(o: &mut String, m: &Model, set: &LoadSet) {
-    let dim = |c: &Channel| if c.component.is_torque() { Dim::TORQUE } else { Dim::FORCE };
+    let dim = |c: &Channel| {
+        if c.component.is_torque() {
+            Dim::TORQUE
+        } else {
+            Dim::FORCE
+        }
+    };
     match &set.form {
         LoadForm::Table => {
-            let cols: Vec<String> = set.channels.iter().map(|c| format!("{} {}", channel_name(m, c), dim(c).boundary_unit())).collect();
+            let cols: Vec<String> = set
+                .channels
+                .iter()
+                .map(|c| format!("{} {}", channel_name(m, c), dim(c).boundary_unit()))
+                .collect();
             let _ = writeln!(o, "\nloads {} table ({}) {{", set.name, cols.join(", "));
             let name_w = set.cases.iter().map(|c| c.name.len()).max().unwrap_or(0);
             let cells: Vec<Vec<String>> = set
                 .cases
                 .iter()
-                .map(|c| c.values.iter().zip(&set.channels).map(|(v, ch)| number(to_boundary(*v, dim(ch)))).collect())
+                .map(|c| {
+                    c.values
+                        .iter()
+                        .zip(&set.channels)
+                        .map(|(v, ch)| number(to_boundary(*v, dim(ch))))
+                        .collect()
+                })
                 .collect();
-            let widths: Vec<usize> = (0..set.channels.len()).map(|k| cells.iter().map(|r| r[k].len()).max().unwrap_or(0)).collect();
+            let widths: Vec<usize> = (0..set.channels.len())
+                .map(|k| cells.iter().map(|r| r[k].len()).max().unwrap_or(0))
+                .collect();
             for (case, row) in set.cases.iter().zip(&cells) {
                 let mut line = format!("    {:<name_w$}", case.name);
                 for (cell, w) in row.iter().zip(&widths) {
@@ -271,17 +373,35 @@ fn load_set(o: &mut String, m: &Model, set: &LoadSet) {
                 let _ = writeln!(o, "{}", line.trim_end());
             }
         }
-        LoadForm::Sweep { swept, waypoints, step } => {
+        LoadForm::Sweep {
+            swept,
+            waypoints,
+            step,
+        } => {
             let _ = writeln!(o, "\nloads {} sweep {{", set.name);
             for (k, ch) in set.channels.iter().enumerate() {
                 let d = dim(ch);
                 let u = d.boundary_unit();
                 if k == *swept {
-                    let pts: Vec<String> = waypoints.iter().map(|w| format!("{} {u}", number(to_boundary(*w, d)))).collect();
-                    let _ = writeln!(o, "    {} {} by {} {u}", channel_name(m, ch), pts.join(" -> "), number(to_boundary(*step, d)));
+                    let pts: Vec<String> = waypoints
+                        .iter()
+                        .map(|w| format!("{} {u}", number(to_boundary(*w, d))))
+                        .collect();
+                    let _ = writeln!(
+                        o,
+                        "    {} {} by {} {u}",
+                        channel_name(m, ch),
+                        pts.join(" -> "),
+                        number(to_boundary(*step, d))
+                    );
                 } else {
                     let v = set.cases.first().map_or(0.0, |c| c.values[k]);
-                    let _ = writeln!(o, "    {} {} {u}", channel_name(m, ch), number(to_boundary(v, d)));
+                    let _ = writeln!(
+                        o,
+                        "    {} {} {u}",
+                        channel_name(m, ch),
+                        number(to_boundary(v, d))
+                    );
                 }
             }
         }

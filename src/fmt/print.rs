@@ -37,10 +37,17 @@ pub fn value(v: &Value, indent: &str) -> String {
         Value::Ref(r) => format!("{}.{}", r.part.name, r.marker.name),
         Value::Vector(v) => vector(v),
         Value::Expr(e) => expr(e),
-        Value::List(items, _) => format!("[{}]", items.iter().map(expr).collect::<Vec<_>>().join(", ")),
+        Value::List(items, _) => format!(
+            "[{}]",
+            items.iter().map(expr).collect::<Vec<_>>().join(", ")
+        ),
         Value::Table(t) => {
             let head = format!("table ({}, {})", t.x_unit.text, t.y_unit.text);
-            let pts: Vec<String> = t.points.iter().map(|(a, b)| format!("({}, {})", a.text, b.text)).collect();
+            let pts: Vec<String> = t
+                .points
+                .iter()
+                .map(|(a, b)| format!("({}, {})", a.text, b.text))
+                .collect();
             let one = format!("{head} [{}]", pts.join(", "));
             if one.len() + indent.len() <= LINE_WIDTH {
                 one

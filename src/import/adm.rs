@@ -10,12 +10,11 @@ use crate::model::*;
 use crate::span::FileId;
 use std::collections::BTreeMap;
 
-/// A marker of the deck: its part, global pose at design, and the model marker.
+/// A marker of the deck: its global pose at design and its model marker (None
+/// for floating and auxiliary markers, and for part frames).
 pub(crate) struct MInfo {
-    pub part: u32,
     pub pos: Vec3,
     pub rot: Mat3,
-    pub floating: bool,
     pub model: Option<MarkerId>,
 }
 
@@ -34,10 +33,22 @@ pub(crate) struct Deck {
 
 impl Deck {
     pub fn warn(&mut self, s: &Statement, msg: impl Into<String>) {
-        self.problems.push(at(self.file, s.span, s.line, false, format!("{}: {}", s.label(), msg.into())));
+        self.problems.push(at(
+            self.file,
+            s.span,
+            s.line,
+            false,
+            format!("{}: {}", s.label(), msg.into()),
+        ));
     }
     pub fn error(&mut self, s: &Statement, msg: impl Into<String>) {
-        self.problems.push(at(self.file, s.span, s.line, true, format!("{}: {}", s.label(), msg.into())));
+        self.problems.push(at(
+            self.file,
+            s.span,
+            s.line,
+            true,
+            format!("{}: {}", s.label(), msg.into()),
+        ));
     }
     /// The model marker of a deck marker id, or an error on `s`.
     pub fn marker(&mut self, s: &Statement, key: &str) -> Option<MarkerId> {
@@ -58,7 +69,16 @@ impl Deck {
 /// An axle identifier from an ADAMS name: the last `.` segment, other characters as `_`.
 pub(crate) fn ident(view: Option<&str>, fallback: String) -> String {
     let raw = view.and_then(|v| v.rsplit('.').next()).unwrap_or("").trim();
-    let mut s: String = raw.chars().map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' }).collect();
+    let mut s: String = raw
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
     if s.is_empty() {
         s = fallback;
     }
@@ -69,40 +89,87 @@ pub(crate) fn ident(view: Option<&str>, fallback: String) -> String {
 }
 
 fn unique(name: String, taken: &[String], id: Option<u32>) -> String {
-    if taken.contains(&name) { format!("{name}_{}", id.unwrap_or(0)) } else { name }
+    if taken.contains(&name) {
+        format!("{name}_{}", id.unwrap_or(0))
+    } else {
+        name
+    }
 }
 
 fn unit_factor(s: &Statement, key: &str, table: &[(&str, f64)]) -> Result<f64, String> {
     match s.word(key) {
         None => Ok(1.0),
-        Some(w) => table.iter().find(|(n, _)| n.starts_with(w) || w.starts_with(n)).map(|t| t.1).ok_or(format!("{key} = {w} is not supported")),
+        Some(w) => table
+            .iter()
+            .find(|(n, _)| n.starts_with(w) || w.starts_with(n))
+            .map(|t| t.1)
+            .ok_or(format!("{key} = {w} is not supported")),
     }
 }
 
 pub(crate) fn build(file: FileId, text: &str) -> (Option<Model>, Vec<Diagnostic>) {
     let (title, stmts, errors) = reader::read(text);
-    let name = ident(title.as_deref().map(|t| t.rsplit(':').next().unwrap_or(t)).map(|t| t.trim().replace(' ', "_")).as_deref(), "imported".into());
+    let name = ident(
+        title
+            .as_deref()
+            .map(|t| t.rsplit(':').next().unwrap_or(t))
+            .map(|t| t.trim().replace(' ', "_"))
+            .as_deref(),
+        "imported".into(),
+    );
     let mut d = Deck {
         file,
-        problems: errors.iter().map(|e| at(file, e.span, e.line, true, e.message.clone())).collect(),
+        problems: errors
+            .iter()
+            .map(|e| at(file, e.span, e.line, true, e.message.clone()))
+            .collect(),
         len: 1.0,
         force: 1.0,
         parts: BTreeMap::new(),
         markers: BTreeMap::new(),
         splines: BTreeMap::new(),
         variables: BTreeMap::new(),
-        model: Model { name, ..Model::default() },
+        model: Model {
+            name,
+            ..Model::default()
+        },
     };
-    fn by<'a>(stmts: &'a [Statement], n: &'a str) -> impl Iterator<Item = &'a Statement> + 'a { stmts.iter().filter(move |s| s.name == n) }
+    fn by<'a>(stmts: &'a [Statement], n: &'a str) -> impl Iterator<Item = &'a Statement> + 'a {
+        stmts.iter().filter(move |s| s.name == n)
+    }
     for s in by(&stmts, "UNITS") {
         if let Some(sys) = s.word("SYSTEM") {
-            d.error(s, format!("SYSTEM = {sys} is not supported; give FORCE and LENGTH"));
+            d.error(
+                s,
+                format!("SYSTEM = {sys} is not supported; give FORCE and LENGTH"),
+            );
         }
-        match unit_factor(s, "LENGTH", &[("MILLIMETER", 1.0), ("METER", 1000.0), ("CENTIMETER", 10.0), ("KILOMETER", 1.0e6), ("INCH", 25.4), ("FOOT", 304.8)]) {
+        match unit_factor(
+            s,
+            "LENGTH",
+            &[
+                ("MILLIMETER", 1.0),
+                ("METER", 1000.0),
+                ("CENTIMETER", 10.0),
+                ("KILOMETER", 1.0e6),
+                ("INCH", 25.4),
+                ("FOOT", 304.8),
+            ],
+        ) {
             Ok(f) => d.len = f,
             Err(e) => d.error(s, e),
         }
-        match unit_factor(s, "FORCE", &[("NEWTON", 1.0), ("KILONEWTON", 1000.0), ("MILLINEWTON", 1.0e-3), ("POUND_FORCE", 4.448221615), ("KILOGRAM_FORCE", 9.80665)]) {
+        match unit_factor(
+            s,
+            "FORCE",
+            &[
+                ("NEWTON", 1.0),
+                ("KILONEWTON", 1000.0),
+                ("MILLINEWTON", 1.0e-3),
+                ("POUND_FORCE", 4.448221615),
+                ("KILOGRAM_FORCE", 9.80665),
+            ],
+        ) {
             Ok(f) => d.force = f,
             Err(e) => d.error(s, e),
         }
@@ -114,7 +181,10 @@ pub(crate) fn build(file: FileId, text: &str) -> (Option<Model>, Vec<Diagnostic>
             (Some(id), Some(x), Some(y)) if x.len() == y.len() && x.len() >= 2 => {
                 d.splines.insert(id, x.into_iter().zip(y).collect());
             }
-            _ => d.warn(s, "only SPLINEs with X and Y lists of equal length are read; skipped"),
+            _ => d.warn(
+                s,
+                "only SPLINEs with X and Y lists of equal length are read; skipped",
+            ),
         }
     }
     for s in by(&stmts, "VARIABLE") {
@@ -126,21 +196,28 @@ pub(crate) fn build(file: FileId, text: &str) -> (Option<Model>, Vec<Diagnostic>
             _ => d.warn(s, "a VARIABLE without FUNCTION = expression; skipped"),
         }
     }
-    for s in stmts.iter().filter(|s| s.name == "JOINT" || s.name == "JPRIM") {
+    for s in stmts
+        .iter()
+        .filter(|s| s.name == "JOINT" || s.name == "JPRIM")
+    {
         joint(&mut d, s);
     }
     super::forces::all(&mut d, &stmts);
     let mut skipped_requests = Vec::new();
     for s in &stmts {
         match s.name.as_str() {
-            "UNITS" | "PART" | "MARKER" | "SPLINE" | "VARIABLE" | "JOINT" | "JPRIM" | "BUSHING" | "GFORCE" | "SFORCE"
-            | "SPRINGDAMPER" | "VFORCE" | "VTORQUE" | "OUTPUT" | "RESULTS" => {}
+            "UNITS" | "PART" | "MARKER" | "SPLINE" | "VARIABLE" | "JOINT" | "JPRIM" | "BUSHING"
+            | "GFORCE" | "SFORCE" | "SPRINGDAMPER" | "VFORCE" | "VTORQUE" | "OUTPUT"
+            | "RESULTS" => {}
             "REQUEST" => {
                 if !wheel(&mut d, s) {
                     skipped_requests.push(s.line.to_string());
                 }
             }
-            "ACCGRAV" => d.warn(s, "gravity is not part of an axle model (parts have no mass); skipped"),
+            "ACCGRAV" => d.warn(
+                s,
+                "gravity is not part of an axle model (parts have no mass); skipped",
+            ),
             _ => d.warn(s, "no axle equivalent; skipped"),
         }
     }
@@ -155,7 +232,10 @@ pub(crate) fn build(file: FileId, text: &str) -> (Option<Model>, Vec<Diagnostic>
         }
     }
     if !skipped_requests.is_empty() {
-        let msg = format!("REQUESTs at lines {} are outputs; axle computes its own (solve, kc) and skips them", skipped_requests.join(", "));
+        let msg = format!(
+            "REQUESTs at lines {} are outputs; axle computes its own (solve, kc) and skips them",
+            skipped_requests.join(", ")
+        );
         d.problems.push(Diagnostic::warning("W0602", msg));
     }
     (Some(d.model), d.problems)
@@ -170,7 +250,18 @@ fn parts(d: &mut Deck, stmts: Vec<&Statement>) {
         };
         let ground = s.has("GROUND");
         let taken: Vec<String> = d.model.parts.iter().map(|p| p.name.clone()).collect();
-        let name = unique(ident(s.view_name.as_deref(), if ground { "ground".into() } else { format!("part_{id}") }), &taken, Some(id));
+        let name = unique(
+            ident(
+                s.view_name.as_deref(),
+                if ground {
+                    "ground".into()
+                } else {
+                    format!("part_{id}")
+                },
+            ),
+            &taken,
+            Some(id),
+        );
         let qg = s.nums("QG").unwrap_or_else(|| vec![0.0; 3]);
         let eu = s.nums("REULER").unwrap_or_else(|| vec![0.0; 3]);
         if qg.len() != 3 || eu.len() != 3 {
@@ -178,16 +269,32 @@ fn parts(d: &mut Deck, stmts: Vec<&Statement>) {
             continue;
         }
         if s.has("XG") || s.has("ZG") {
-            d.error(s, "part frames given by XG/ZG are not supported; use REULER");
+            d.error(
+                s,
+                "part frames given by XG/ZG are not supported; use REULER",
+            );
             continue;
         }
-        frames.insert(id, (Vec3::new(qg[0], qg[1], qg[2]) * d.len, euler_zxz(eu[0], eu[1], eu[2])));
+        frames.insert(
+            id,
+            (
+                Vec3::new(qg[0], qg[1], qg[2]) * d.len,
+                euler_zxz(eu[0], eu[1], eu[2]),
+            ),
+        );
         d.parts.insert(id, PartId(d.model.parts.len() as u32));
         d.model.parts.push(Part { name, ground });
     }
     // Part frames are only needed to place markers; keep them on the markers.
     for (id, f) in frames {
-        d.markers.insert(u32::MAX - id, MInfo { part: id, pos: f.0, rot: f.1, floating: true, model: None });
+        d.markers.insert(
+            u32::MAX - id,
+            MInfo {
+                pos: f.0,
+                rot: f.1,
+                model: None,
+            },
+        );
     }
 }
 
@@ -201,7 +308,11 @@ fn markers(d: &mut Deck, stmts: Vec<&Statement>) {
             d.error(s, format!("PART = {part} is not defined"));
             continue;
         };
-        let (fp, fr) = d.markers.get(&(u32::MAX - part)).map(|f| (f.pos, f.rot)).unwrap_or((Vec3::zeros(), Mat3::identity()));
+        let (fp, fr) = d
+            .markers
+            .get(&(u32::MAX - part))
+            .map(|f| (f.pos, f.rot))
+            .unwrap_or((Vec3::zeros(), Mat3::identity()));
         let floating = s.has("FLOATING");
         let qp = s.nums("QP").unwrap_or_else(|| vec![0.0; 3]);
         if qp.len() != 3 {
@@ -215,11 +326,18 @@ fn markers(d: &mut Deck, stmts: Vec<&Statement>) {
                 continue;
             }
             let r = euler_zxz(e[0], e[1], e[2]);
-            let o = if e.iter().all(|v| *v == 0.0) { Orientation::Identity } else { Orientation::Euler(vals([e[0], e[1], e[2]])) };
+            let o = if e.iter().all(|v| *v == 0.0) {
+                Orientation::Identity
+            } else {
+                Orientation::Euler(vals([e[0], e[1], e[2]]))
+            };
             (o, r)
         } else if let Some(zp) = s.nums("ZP").filter(|v| v.len() == 3) {
             let z = Vec3::new(zp[0], zp[1], zp[2]) * d.len - local;
-            let x = s.nums("XP").filter(|v| v.len() == 3).map(|xp| Vec3::new(xp[0], xp[1], xp[2]) * d.len - local);
+            let x = s
+                .nums("XP")
+                .filter(|v| v.len() == 3)
+                .map(|xp| Vec3::new(xp[0], xp[1], xp[2]) * d.len - local);
             match crate::geom::frame_from_z_x(z, x) {
                 Ok(r) => (Orientation::Directions { z, x }, r),
                 Err(_) => {
@@ -233,20 +351,39 @@ fn markers(d: &mut Deck, stmts: Vec<&Statement>) {
         let pos = fp + fr * local;
         let rot = fr * rot;
         // A part frame away from the global frame: write the marker's global axes.
-        let orientation = if fr != Mat3::identity() { Orientation::Directions { z: rot.column(2).into(), x: Some(rot.column(0).into()) } } else { orientation };
+        let orientation = if fr != Mat3::identity() {
+            Orientation::Directions {
+                z: rot.column(2).into(),
+                x: Some(rot.column(0).into()),
+            }
+        } else {
+            orientation
+        };
         let name = ident(s.view_name.as_deref(), format!("m{id}"));
         let aux = floating || name.starts_with("axle_");
         let model = (!aux).then(|| {
-            let taken: Vec<String> = d.model.markers.iter().filter(|m| m.part == pid).map(|m| m.name.clone()).collect();
+            let taken: Vec<String> = d
+                .model
+                .markers
+                .iter()
+                .filter(|m| m.part == pid)
+                .map(|m| m.name.clone())
+                .collect();
             let name = unique(name, &taken, Some(id));
-            d.model.markers.push(Marker { name, part: pid, position: vals([pos.x, pos.y, pos.z]), orientation, rotation: rot });
+            d.model.markers.push(Marker {
+                name,
+                part: pid,
+                position: vals([pos.x, pos.y, pos.z]),
+                orientation,
+                rotation: rot,
+            });
             MarkerId(d.model.markers.len() as u32 - 1)
         });
         if d.markers.contains_key(&id) {
             d.error(s, format!("MARKER/{id} is defined twice"));
             continue;
         }
-        d.markers.insert(id, MInfo { part, pos, rot, floating, model });
+        d.markers.insert(id, MInfo { pos, rot, model });
     }
 }
 
@@ -264,11 +401,17 @@ fn joint(d: &mut Deck, s: &Statement) {
         ("HOOKE", JointKind::Universal),
     ];
     let Some(&(kw, kind)) = KINDS.iter().find(|(k, _)| s.has(k)) else {
-        let kind = s.args.iter().find(|a| a.values.is_empty()).map_or("?".to_string(), |a| a.key.clone());
+        let kind = s
+            .args
+            .iter()
+            .find(|a| a.values.is_empty())
+            .map_or("?".to_string(), |a| a.key.clone());
         d.warn(s, format!("{kind} has no axle equivalent; skipped"));
         return;
     };
-    let (Some(mut i), Some(mut j)) = (d.marker(s, "I"), d.marker(s, "J")) else { return };
+    let (Some(mut i), Some(mut j)) = (d.marker(s, "I"), d.marker(s, "J")) else {
+        return;
+    };
     if kw == "HOOKE" {
         // HOOKE keeps x_I perpendicular to y_J (its z axes run along the shafts);
         // axle's universal keeps z_I perpendicular to z_J, so the cross axes get
@@ -278,33 +421,63 @@ fn joint(d: &mut Deck, s: &Statement) {
             let z: Vec3 = src.rotation.column(col).into();
             let x: Vec3 = src.rotation.column(2).into();
             let rot = crate::geom::frame_from_z_x(z, Some(x)).unwrap_or(src.rotation);
-            d.model.markers.push(Marker { name: format!("{}_{tag}", src.name), orientation: Orientation::Directions { z, x: Some(x) }, rotation: rot, ..src });
+            d.model.markers.push(Marker {
+                name: format!("{}_{tag}", src.name),
+                orientation: Orientation::Directions { z, x: Some(x) },
+                rotation: rot,
+                ..src
+            });
             MarkerId(d.model.markers.len() as u32 - 1)
         };
         i = cross(i, 0, "hooke_i");
         j = cross(j, 1, "hooke_j");
-        d.warn(s, "HOOKE read as a universal joint on cross-axis markers (x_I ⟂ y_J, see docs/adams.md)");
+        d.warn(
+            s,
+            "HOOKE read as a universal joint on cross-axis markers (x_I ⟂ y_J, see docs/adams.md)",
+        );
     }
     let taken: Vec<String> = d.model.joints.iter().map(|j| j.name.clone()).collect();
-    let name = unique(ident(s.view_name.as_deref(), format!("{}_{}", s.name.to_lowercase(), s.id.unwrap_or(0))), &taken, s.id);
+    let name = unique(
+        ident(
+            s.view_name.as_deref(),
+            format!("{}_{}", s.name.to_lowercase(), s.id.unwrap_or(0)),
+        ),
+        &taken,
+        s.id,
+    );
     d.model.joints.push(Joint { name, kind, i, j });
 }
 
 /// A wheel from the `wheel.<name>.centre` / `.contact` requests axle writes.
 fn wheel(d: &mut Deck, s: &Statement) -> bool {
-    let Some(v) = s.view_name.as_deref() else { return false };
+    let Some(v) = s.view_name.as_deref() else {
+        return false;
+    };
     let parts: Vec<&str> = v.split('.').collect();
-    let ["wheel", name, what] = parts.as_slice() else { return false };
+    let ["wheel", name, what] = parts.as_slice() else {
+        return false;
+    };
     if *what == "angles" {
         return true;
     }
-    let Some(m) = s.int("I").and_then(|i| d.markers.get(&i)).and_then(|m| m.model) else { return false };
+    let Some(m) = s
+        .int("I")
+        .and_then(|i| d.markers.get(&i))
+        .and_then(|m| m.model)
+    else {
+        return false;
+    };
     let part = d.model.marker(m).part;
     let name = ident(Some(name), "wheel".into());
     let k = match d.model.wheels.iter().position(|w| w.name == name) {
         Some(k) => k,
         None => {
-            d.model.wheels.push(Wheel { name, part, centre: m, contact: m });
+            d.model.wheels.push(Wheel {
+                name,
+                part,
+                centre: m,
+                contact: m,
+            });
             d.model.wheels.len() - 1
         }
     };

@@ -28,11 +28,18 @@ struct P<'a> {
 }
 
 pub fn parse(text: &str) -> Result<Expr, String> {
-    let mut p = P { s: text.as_bytes(), i: 0, depth: 0 };
+    let mut p = P {
+        s: text.as_bytes(),
+        i: 0,
+        depth: 0,
+    };
     let e = p.sum()?;
     p.ws();
     if p.i < p.s.len() {
-        return Err(format!("unexpected `{}` in expression", text[p.i..].chars().next().unwrap_or(' ')));
+        return Err(format!(
+            "unexpected `{}` in expression",
+            text[p.i..].chars().next().unwrap_or(' ')
+        ));
     }
     Ok(e)
 }
@@ -101,18 +108,27 @@ impl P<'_> {
         let rest = std::str::from_utf8(&self.s[self.i..]).unwrap_or("");
         if self.eat(b'(') {
             let e = self.sum()?;
-            return if self.eat(b')') { Ok(e) } else { Err("missing `)`".into()) };
+            return if self.eat(b')') {
+                Ok(e)
+            } else {
+                Err("missing `)`".into())
+            };
         }
         if let Some((len, v, _)) = super::reader::number(rest) {
             self.i += len;
             return Ok(Expr::Num(v));
         }
         let st = self.i;
-        while self.i < self.s.len() && (self.s[self.i].is_ascii_alphanumeric() || self.s[self.i] == b'_') {
+        while self.i < self.s.len()
+            && (self.s[self.i].is_ascii_alphanumeric() || self.s[self.i] == b'_')
+        {
             self.i += 1;
         }
         if st == self.i {
-            return Err(format!("unexpected `{}` in expression", rest.chars().next().unwrap_or(' ')));
+            return Err(format!(
+                "unexpected `{}` in expression",
+                rest.chars().next().unwrap_or(' ')
+            ));
         }
         let name = String::from_utf8_lossy(&self.s[st..self.i]).to_ascii_uppercase();
         if !self.eat(b'(') {
@@ -124,8 +140,16 @@ impl P<'_> {
                 return Err("IF needs `:` after its condition".into());
             }
             let a = self.sum()?;
-            let b = if self.eat(b',') { self.sum()? } else { return Err("IF needs three branches".into()) };
-            let d = if self.eat(b',') { self.sum()? } else { return Err("IF needs three branches".into()) };
+            let b = if self.eat(b',') {
+                self.sum()?
+            } else {
+                return Err("IF needs three branches".into());
+            };
+            let d = if self.eat(b',') {
+                self.sum()?
+            } else {
+                return Err("IF needs three branches".into());
+            };
             if !self.eat(b')') {
                 return Err("missing `)` after IF".into());
             }
@@ -154,7 +178,16 @@ fn as_measure(name: &str, args: &[Expr]) -> Option<Measure> {
     if !MEASURES.contains(&name) {
         return None;
     }
-    let ids: Option<Vec<i64>> = args.iter().map(|a| if let Expr::Num(v) = a { Some(*v as i64) } else { None }).collect();
+    let ids: Option<Vec<i64>> = args
+        .iter()
+        .map(|a| {
+            if let Expr::Num(v) = a {
+                Some(*v as i64)
+            } else {
+                None
+            }
+        })
+        .collect();
     Some((name.to_string(), ids?))
 }
 
@@ -215,13 +248,25 @@ pub fn eval(e: &Expr, c: &Ctx, depth: usize) -> Result<f64, String> {
         }
         Expr::If(cond, neg, zero, pos) => {
             let v = ev(cond)?;
-            if v < 0.0 { ev(neg)? } else if v == 0.0 { ev(zero)? } else { ev(pos)? }
+            if v < 0.0 {
+                ev(neg)?
+            } else if v == 0.0 {
+                ev(zero)?
+            } else {
+                ev(pos)?
+            }
         }
         Expr::Call(n, a) => {
             if let Some(m) = as_measure(n, a) {
                 return match c.measure {
                     Some(t) if *t == m => Ok(c.x),
-                    _ => Err(format!("depends on {n}({})", m.1.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(","))),
+                    _ => Err(format!(
+                        "depends on {n}({})",
+                        m.1.iter()
+                            .map(|v| v.to_string())
+                            .collect::<Vec<_>>()
+                            .join(",")
+                    )),
                 };
             }
             if VELOCITIES.contains(&n.as_str()) {
@@ -244,15 +289,26 @@ pub fn eval(e: &Expr, c: &Ctx, depth: usize) -> Result<f64, String> {
                 ("MIN", [x, y]) => x.min(*y),
                 ("SIGN", [x, y]) => x.abs() * y.signum(),
                 ("AKISPL" | "CUBSPL", [x, _, id, ..]) => {
-                    let t = c.splines.get(&(*id as u32)).ok_or_else(|| format!("SPLINE/{id} is not defined"))?;
+                    let t = c
+                        .splines
+                        .get(&(*id as u32))
+                        .ok_or_else(|| format!("SPLINE/{id} is not defined"))?;
                     let table = crate::model::Table { points: t.clone() };
                     table.eval(*x).0
                 }
                 ("VARVAL", [id]) => {
-                    let var = c.variables.get(&(*id as u32)).ok_or_else(|| format!("VARIABLE/{id} is not defined"))?;
+                    let var = c
+                        .variables
+                        .get(&(*id as u32))
+                        .ok_or_else(|| format!("VARIABLE/{id} is not defined"))?;
                     eval(var, c, depth + 1)?
                 }
-                _ => return Err(format!("function {n} with {} arguments is not supported", v.len())),
+                _ => {
+                    return Err(format!(
+                        "function {n} with {} arguments is not supported",
+                        v.len()
+                    ));
+                }
             }
         }
     })
@@ -275,21 +331,42 @@ pub fn spline_call(e: &Expr) -> Option<(&Expr, u32)> {
 
 /// Coefficients `c0..=deg` of `f` if it is a polynomial of degree <= `deg` in x
 /// (checked at extra points), from exact interpolation at x = 0, ±1, ±2, ….
-pub fn polynomial(f: &dyn Fn(f64) -> Result<f64, String>, deg: usize) -> Result<Option<Vec<f64>>, String> {
+pub fn polynomial(
+    f: &dyn Fn(f64) -> Result<f64, String>,
+    deg: usize,
+) -> Result<Option<Vec<f64>>, String> {
     let n = deg + 1;
-    let xs: Vec<f64> = (0..n).map(|k| if k % 2 == 1 { (k / 2 + 1) as f64 } else { -((k / 2) as f64) }).collect();
+    let xs: Vec<f64> = (0..n)
+        .map(|k| {
+            if k % 2 == 1 {
+                (k / 2 + 1) as f64
+            } else {
+                -((k / 2) as f64)
+            }
+        })
+        .collect();
     let ys: Vec<f64> = xs.iter().map(|x| f(*x)).collect::<Result<_, _>>()?;
     let a = nalgebra::DMatrix::from_fn(n, n, |r, c| xs[r].powi(c as i32));
-    let Some(c) = a.lu().solve(&nalgebra::DVector::from_vec(ys.clone())) else { return Ok(None) };
+    let Some(c) = a.lu().solve(&nalgebra::DVector::from_vec(ys.clone())) else {
+        return Ok(None);
+    };
     let scale = ys.iter().fold(1e-12_f64, |m, y| m.max(y.abs()));
     for x in [0.37_f64, -1.61, 2.9] {
-        let p: f64 = c.iter().enumerate().map(|(k, ck)| ck * x.powi(k as i32)).sum();
+        let p: f64 = c
+            .iter()
+            .enumerate()
+            .map(|(k, ck)| ck * x.powi(k as i32))
+            .sum();
         if (p - f(x)?).abs() > 1e-9 * scale {
             return Ok(None);
         }
     }
     // Round away interpolation noise relative to the size of the law.
-    Ok(Some(c.iter().map(|v| if v.abs() < 1e-12 * scale { 0.0 } else { *v }).collect()))
+    Ok(Some(
+        c.iter()
+            .map(|v| if v.abs() < 1e-12 * scale { 0.0 } else { *v })
+            .collect(),
+    ))
 }
 
 #[cfg(test)]
@@ -298,19 +375,38 @@ mod tests {
 
     #[test]
     fn parses_and_evaluates_force_laws() {
-        let e = parse("- 100.0*(dm(204,205)-2.0)  - 1.0*vr(204,205)  + 0.0").unwrap_or(Expr::Num(f64::NAN));
+        let e = parse("- 100.0*(dm(204,205)-2.0)  - 1.0*vr(204,205)  + 0.0")
+            .unwrap_or(Expr::Num(f64::NAN));
         let mut ms = Vec::new();
         measures(&e, &mut ms);
         assert_eq!(ms, vec![("DM".to_string(), vec![204, 205])]);
         let (s, v) = (BTreeMap::new(), BTreeMap::new());
-        let c = Ctx { measure: Some(&ms[0]), x: 5.0, splines: &s, variables: &v };
+        let c = Ctx {
+            measure: Some(&ms[0]),
+            x: 5.0,
+            splines: &s,
+            variables: &v,
+        };
         assert_eq!(eval(&e, &c, 0), Ok(-300.0));
-        let p = polynomial(&|x| eval(&e, &Ctx { x, ..c }, 0), 3).ok().flatten();
+        let p = polynomial(&|x| eval(&e, &Ctx { x, ..c }, 0), 3)
+            .ok()
+            .flatten();
         assert_eq!(p, Some(vec![200.0, -100.0, 0.0, 0.0]));
         let e = parse("IF(DM(1,2) - 70: 2*(70 - DM(1,2))**2, 0, 0)").unwrap_or(Expr::Num(0.0));
         assert_eq!(eval(&e, &Ctx { x: 60.0, ..c }, 0).ok(), None);
         let m = ("DM".to_string(), vec![1, 2]);
-        assert_eq!(eval(&e, &Ctx { measure: Some(&m), x: 60.0, ..c }, 0), Ok(200.0));
+        assert_eq!(
+            eval(
+                &e,
+                &Ctx {
+                    measure: Some(&m),
+                    x: 60.0,
+                    ..c
+                },
+                0
+            ),
+            Ok(200.0)
+        );
         assert!(parse("1 +").is_err());
         assert!(parse("AKISPL(1, 0").is_err());
     }

@@ -23,10 +23,27 @@ pub struct Imported {
 }
 
 /// A problem at a statement of the deck.
-pub(crate) fn at(file: FileId, span: (usize, usize), line: usize, error: bool, msg: impl Into<String>) -> Diagnostic {
+pub(crate) fn at(
+    file: FileId,
+    span: (usize, usize),
+    line: usize,
+    error: bool,
+    msg: impl Into<String>,
+) -> Diagnostic {
     let msg = format!("line {line}: {}", msg.into());
-    let d = if error { Diagnostic::error("E0601", msg) } else { Diagnostic::warning("W0601", msg) };
-    d.primary(Span { file, start: span.0 as u32, end: span.1 as u32 }, "here")
+    let d = if error {
+        Diagnostic::error("E0601", msg)
+    } else {
+        Diagnostic::warning("W0601", msg)
+    };
+    d.primary(
+        Span {
+            file,
+            start: span.0 as u32,
+            end: span.1 as u32,
+        },
+        "here",
+    )
 }
 
 /// Imports the dataset `text` named `name`.
@@ -34,9 +51,16 @@ pub fn import_adm(name: &str, text: &str) -> Imported {
     let mut sources = SourceMap::new();
     let file = sources.add(name, text);
     let (model, mut problems) = adm::build(file, text);
-    let has_error = problems.iter().any(|d| d.severity == crate::diagnostic::Severity::Error);
+    let has_error = problems
+        .iter()
+        .any(|d| d.severity == crate::diagnostic::Severity::Error);
     let Some(model) = model.filter(|_| !has_error) else {
-        return Imported { model: None, source: None, problems, sources };
+        return Imported {
+            model: None,
+            source: None,
+            problems,
+            sources,
+        };
     };
     // The printed source goes through the normal checker, so an imported model
     // obeys every rule a hand-written one does.
@@ -55,8 +79,18 @@ pub fn import_adm(name: &str, text: &str) -> Imported {
     match checked.model {
         Some(m) => {
             let source = crate::fmt::print_model(&m);
-            Imported { model: Some(m), source: Some(source), problems, sources }
+            Imported {
+                model: Some(m),
+                source: Some(source),
+                problems,
+                sources,
+            }
         }
-        None => Imported { model: None, source: None, problems, sources },
+        None => Imported {
+            model: None,
+            source: None,
+            problems,
+            sources,
+        },
     }
 }

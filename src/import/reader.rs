@@ -43,24 +43,190 @@ pub struct ReadError {
 
 /// Statement names and the keywords each accepts (for abbreviations).
 const VOCAB: &[(&str, &[&str])] = &[
-    ("UNITS", &["FORCE", "MASS", "LENGTH", "TIME", "SYSTEM", "UCF"]),
-    ("PART", &["GROUND", "MASS", "CM", "IP", "QG", "REULER", "XG", "ZG", "IM", "VX", "VY", "VZ", "WX", "WY", "WZ", "EXACT", "MATERIAL", "PLANAR"]),
-    ("MARKER", &["PART", "QP", "REULER", "FLOATING", "ZP", "XP", "USEXP", "RM", "POINT_MASS", "FLEX_BODY", "NODE_ID"]),
-    ("JOINT", &["I", "J", "SPHERICAL", "UNIVERSAL", "HOOKE", "REVOLUTE", "CYLINDRICAL", "TRANSLATIONAL", "FIXED", "CONVEL", "PLANAR", "RACKPIN", "SCREW", "PD", "PITCH", "IC", "ICTRAN", "ICROT", "DELTA_V", "MAXIMUM_DEFORMATION", "MU_DYN_ROT", "MU_STAT_ROT", "FRICTION"]),
-    ("JPRIM", &["I", "J", "ATPOINT", "INLINE", "INPLANE", "ORIENTATION", "PARALLEL_AXES", "PERPENDICULAR"]),
-    ("BUSHING", &["I", "J", "K", "KT", "C", "CT", "FORCE", "TORQUE"]),
-    ("SPRINGDAMPER", &["I", "J", "TRANSLATIONAL", "ROTATIONAL", "K", "KT", "C", "CT", "LENGTH", "ANGLE", "FORCE", "TORQUE"]),
-    ("SFORCE", &["I", "J", "TRANSLATIONAL", "ROTATIONAL", "ACTIONONLY", "FUNCTION", "ROUTINE"]),
-    ("GFORCE", &["I", "JFLOAT", "RM", "FX", "FY", "FZ", "TX", "TY", "TZ", "FUNCTION", "ROUTINE"]),
-    ("VFORCE", &["I", "JFLOAT", "RM", "FX", "FY", "FZ", "FUNCTION", "ROUTINE"]),
-    ("VTORQUE", &["I", "JFLOAT", "RM", "TX", "TY", "TZ", "FUNCTION", "ROUTINE"]),
-    ("SPLINE", &["X", "Y", "LINEAR_EXTRAPOLATE", "FILE", "CHANNEL", "BLOCK"]),
+    (
+        "UNITS",
+        &["FORCE", "MASS", "LENGTH", "TIME", "SYSTEM", "UCF"],
+    ),
+    (
+        "PART",
+        &[
+            "GROUND", "MASS", "CM", "IP", "QG", "REULER", "XG", "ZG", "IM", "VX", "VY", "VZ", "WX",
+            "WY", "WZ", "EXACT", "MATERIAL", "PLANAR",
+        ],
+    ),
+    (
+        "MARKER",
+        &[
+            "PART",
+            "QP",
+            "REULER",
+            "FLOATING",
+            "ZP",
+            "XP",
+            "USEXP",
+            "RM",
+            "POINT_MASS",
+            "FLEX_BODY",
+            "NODE_ID",
+        ],
+    ),
+    (
+        "JOINT",
+        &[
+            "I",
+            "J",
+            "SPHERICAL",
+            "UNIVERSAL",
+            "HOOKE",
+            "REVOLUTE",
+            "CYLINDRICAL",
+            "TRANSLATIONAL",
+            "FIXED",
+            "CONVEL",
+            "PLANAR",
+            "RACKPIN",
+            "SCREW",
+            "PD",
+            "PITCH",
+            "IC",
+            "ICTRAN",
+            "ICROT",
+            "DELTA_V",
+            "MAXIMUM_DEFORMATION",
+            "MU_DYN_ROT",
+            "MU_STAT_ROT",
+            "FRICTION",
+        ],
+    ),
+    (
+        "JPRIM",
+        &[
+            "I",
+            "J",
+            "ATPOINT",
+            "INLINE",
+            "INPLANE",
+            "ORIENTATION",
+            "PARALLEL_AXES",
+            "PERPENDICULAR",
+        ],
+    ),
+    (
+        "BUSHING",
+        &["I", "J", "K", "KT", "C", "CT", "FORCE", "TORQUE"],
+    ),
+    (
+        "SPRINGDAMPER",
+        &[
+            "I",
+            "J",
+            "TRANSLATIONAL",
+            "ROTATIONAL",
+            "K",
+            "KT",
+            "C",
+            "CT",
+            "LENGTH",
+            "ANGLE",
+            "FORCE",
+            "TORQUE",
+        ],
+    ),
+    (
+        "SFORCE",
+        &[
+            "I",
+            "J",
+            "TRANSLATIONAL",
+            "ROTATIONAL",
+            "ACTIONONLY",
+            "FUNCTION",
+            "ROUTINE",
+        ],
+    ),
+    (
+        "GFORCE",
+        &[
+            "I", "JFLOAT", "RM", "FX", "FY", "FZ", "TX", "TY", "TZ", "FUNCTION", "ROUTINE",
+        ],
+    ),
+    (
+        "VFORCE",
+        &["I", "JFLOAT", "RM", "FX", "FY", "FZ", "FUNCTION", "ROUTINE"],
+    ),
+    (
+        "VTORQUE",
+        &["I", "JFLOAT", "RM", "TX", "TY", "TZ", "FUNCTION", "ROUTINE"],
+    ),
+    (
+        "SPLINE",
+        &["X", "Y", "LINEAR_EXTRAPOLATE", "FILE", "CHANNEL", "BLOCK"],
+    ),
     ("VARIABLE", &["FUNCTION", "IC", "ROUTINE"]),
-    ("REQUEST", &["DISPLACEMENT", "VELOCITY", "ACCELERATION", "FORCE", "I", "J", "RM", "COMMENT", "TITLE", "CNAMES", "CUNITS", "RESULTS_NAME", "F1", "F2", "F3", "F4", "F5", "F6", "F7", "F8", "FUNCTION", "ROUTINE"]),
-    ("OUTPUT", &["REQSAVE", "GRSAVE", "NOSEPARATOR", "SEPARATOR", "TELETYPE", "YPR"]),
-    ("RESULTS", &["XRF", "FORMATTED", "COMMENT", "DECIMALPLACES", "NOACCELERATIONS", "NODATASTRUCTURES"]),
+    (
+        "REQUEST",
+        &[
+            "DISPLACEMENT",
+            "VELOCITY",
+            "ACCELERATION",
+            "FORCE",
+            "I",
+            "J",
+            "RM",
+            "COMMENT",
+            "TITLE",
+            "CNAMES",
+            "CUNITS",
+            "RESULTS_NAME",
+            "F1",
+            "F2",
+            "F3",
+            "F4",
+            "F5",
+            "F6",
+            "F7",
+            "F8",
+            "FUNCTION",
+            "ROUTINE",
+        ],
+    ),
+    (
+        "OUTPUT",
+        &[
+            "REQSAVE",
+            "GRSAVE",
+            "NOSEPARATOR",
+            "SEPARATOR",
+            "TELETYPE",
+            "YPR",
+        ],
+    ),
+    (
+        "RESULTS",
+        &[
+            "XRF",
+            "FORMATTED",
+            "COMMENT",
+            "DECIMALPLACES",
+            "NOACCELERATIONS",
+            "NODATASTRUCTURES",
+        ],
+    ),
     ("ACCGRAV", &["IGRAV", "JGRAV", "KGRAV"]),
-    ("EQUILIBRIUM", &["ALIMIT", "ERROR", "IMBALANCE", "MAXIT", "PATTERN", "STABILITY", "TLIMIT", "DYNAMIC", "STATIC"]),
+    (
+        "EQUILIBRIUM",
+        &[
+            "ALIMIT",
+            "ERROR",
+            "IMBALANCE",
+            "MAXIT",
+            "PATTERN",
+            "STABILITY",
+            "TLIMIT",
+            "DYNAMIC",
+            "STATIC",
+        ],
+    ),
     ("GRAPHICS", &[]),
     ("FIELD", &[]),
     ("ARRAY", &[]),
@@ -114,8 +280,10 @@ fn is_expr_key(stmt: &str, key: &str) -> bool {
 }
 
 fn is_text_key(stmt: &str, key: &str) -> bool {
-    matches!(key, "COMMENT" | "TITLE" | "FILE" | "ROUTINE" | "RESULTS_NAME" | "MATERIAL")
-        || (stmt == "REQUEST" && key == "C")
+    matches!(
+        key,
+        "COMMENT" | "TITLE" | "FILE" | "ROUTINE" | "RESULTS_NAME" | "MATERIAL"
+    ) || (stmt == "REQUEST" && key == "C")
 }
 
 /// Reads a Fortran real at the start of `s`: `(len, value, degrees)`.
@@ -162,8 +330,16 @@ pub fn number(s: &str) -> Option<(usize, f64, bool)> {
         deg = true;
         i += 1;
     }
-    let text = if exp.is_empty() { mant } else { format!("{mant}e{exp}") };
-    let text = if text.ends_with('.') || text.contains(".e") { text.replacen('.', ".0", 1) } else { text };
+    let text = if exp.is_empty() {
+        mant
+    } else {
+        format!("{mant}e{exp}")
+    };
+    let text = if text.ends_with('.') || text.contains(".e") {
+        text.replacen('.', ".0", 1)
+    } else {
+        text
+    };
     let v: f64 = text.parse().ok()?;
     Some((i, if deg { v.to_radians() } else { v }, deg))
 }
@@ -177,11 +353,24 @@ pub fn read(text: &str) -> (Option<String>, Vec<Statement>, Vec<ReadError>) {
     let mut cur: Option<(usize, (usize, usize), Option<String>, Vec<String>)> = None;
     let mut view: Option<String> = None;
     let mut offset = 0;
-    let flush = |cur: &mut Option<(usize, (usize, usize), Option<String>, Vec<String>)>, stmts: &mut Vec<Statement>, errors: &mut Vec<ReadError>| {
+    let flush = |cur: &mut Option<(usize, (usize, usize), Option<String>, Vec<String>)>,
+                 stmts: &mut Vec<Statement>,
+                 errors: &mut Vec<ReadError>| {
         if let Some((line, span, vn, pieces)) = cur.take() {
             match parse_statement(&pieces) {
-                Ok((name, id, args)) => stmts.push(Statement { name, id, args, view_name: vn, line, span }),
-                Err(message) => errors.push(ReadError { line, span, message }),
+                Ok((name, id, args)) => stmts.push(Statement {
+                    name,
+                    id,
+                    args,
+                    view_name: vn,
+                    line,
+                    span,
+                }),
+                Err(message) => errors.push(ReadError {
+                    line,
+                    span,
+                    message,
+                }),
             }
         }
     };
@@ -200,10 +389,15 @@ pub fn read(text: &str) -> (Option<String>, Vec<Statement>, Vec<ReadError>) {
         }
         if let Some(c) = line.strip_prefix('!') {
             if let Some(p) = c.find("adams_view_name=") {
-                let v = c[p + 16..].trim().trim_matches(|ch| ch == '\'' || ch == '"');
+                let v = c[p + 16..]
+                    .trim()
+                    .trim_matches(|ch| ch == '\'' || ch == '"');
                 view = Some(v.to_string());
             } else if n == 0 {
-                title = c.split_once("model name:").map(|(_, t)| t.trim().to_string()).or(title);
+                title = c
+                    .split_once("model name:")
+                    .map(|(_, t)| t.trim().to_string())
+                    .or(title);
             }
             continue;
         }
@@ -211,7 +405,11 @@ pub fn read(text: &str) -> (Option<String>, Vec<Statement>, Vec<ReadError>) {
         if let Some(rest) = body.strip_prefix(',') {
             match &mut cur {
                 Some((_, _, _, pieces)) => pieces.push(rest.to_string()),
-                None => errors.push(ReadError { line: n + 1, span, message: "a continuation line (`,`) with no statement before it".into() }),
+                None => errors.push(ReadError {
+                    line: n + 1,
+                    span,
+                    message: "a continuation line (`,`) with no statement before it".into(),
+                }),
             }
             continue;
         }
@@ -244,7 +442,10 @@ type Parsed = (String, Option<u32>, Vec<Arg>);
 fn parse_statement(pieces: &[String]) -> Result<Parsed, String> {
     let head = &pieces[0];
     let Some((name, rest)) = head.split_once('/') else {
-        return Err(format!("expected a statement `NAME/id`, found `{}`", head.trim()));
+        return Err(format!(
+            "expected a statement `NAME/id`, found `{}`",
+            head.trim()
+        ));
     };
     let upper = name.trim().to_ascii_uppercase();
     if upper.is_empty() || !upper.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
@@ -256,7 +457,11 @@ fn parse_statement(pieces: &[String]) -> Result<Parsed, String> {
     let rest = rest.trim_start();
     let id_len = rest.bytes().take_while(|b| b.is_ascii_digit()).count();
     let id = if id_len > 0 {
-        Some(rest[..id_len].parse::<u32>().map_err(|_| format!("id `{}` is too large", &rest[..id_len]))?)
+        Some(
+            rest[..id_len]
+                .parse::<u32>()
+                .map_err(|_| format!("id `{}` is too large", &rest[..id_len]))?,
+        )
     } else {
         None
     };
@@ -276,7 +481,12 @@ fn parse_args(stmt: &str, vocab: &[&str], s: &str) -> Result<Vec<Arg>, String> {
     let mut i = 0;
     let mut args = Vec::new();
     let skip = |i: &mut usize, seps: bool| {
-        while *i < b.len() && (b[*i] == b' ' || b[*i] == b'\t' || b[*i] == b'\r' || (seps && (b[*i] == b',' || b[*i] == b'\n'))) {
+        while *i < b.len()
+            && (b[*i] == b' '
+                || b[*i] == b'\t'
+                || b[*i] == b'\r'
+                || (seps && (b[*i] == b',' || b[*i] == b'\n')))
+        {
             *i += 1;
         }
     };
@@ -290,13 +500,19 @@ fn parse_args(stmt: &str, vocab: &[&str], s: &str) -> Result<Vec<Arg>, String> {
             i += 1;
         }
         if i == ks {
-            return Err(format!("unexpected `{}`", &s[ks..].chars().next().unwrap_or(' ')));
+            return Err(format!(
+                "unexpected `{}`",
+                &s[ks..].chars().next().unwrap_or(' ')
+            ));
         }
         let raw = s[ks..i].to_ascii_uppercase();
         let key = resolve(&raw, vocab, 1).unwrap_or(raw);
         skip(&mut i, false);
         if i >= b.len() || b[i] != b'=' {
-            args.push(Arg { key, values: vec![] });
+            args.push(Arg {
+                key,
+                values: vec![],
+            });
             continue;
         }
         i += 1;
@@ -307,13 +523,19 @@ fn parse_args(stmt: &str, vocab: &[&str], s: &str) -> Result<Vec<Arg>, String> {
             if e.is_empty() {
                 return Err(format!("`{key} =` has no expression"));
             }
-            args.push(Arg { key, values: vec![Value::Expr(e)] });
+            args.push(Arg {
+                key,
+                values: vec![Value::Expr(e)],
+            });
             i = (end + 1).min(s.len());
             continue;
         }
         if is_text_key(stmt, &key) {
             let end = s[i..].find([',', '\n']).map_or(s.len(), |p| i + p);
-            args.push(Arg { key, values: vec![Value::Word(s[i..end].trim().to_string())] });
+            args.push(Arg {
+                key,
+                values: vec![Value::Word(s[i..end].trim().to_string())],
+            });
             i = end;
             continue;
         }
@@ -322,7 +544,10 @@ fn parse_args(stmt: &str, vocab: &[&str], s: &str) -> Result<Vec<Arg>, String> {
             skip(&mut i, false);
             if i < b.len() && (b[i] == b'\'' || b[i] == b'"') {
                 let q = b[i];
-                let end = s[i + 1..].find(q as char).map(|p| i + 1 + p).ok_or("unterminated string")?;
+                let end = s[i + 1..]
+                    .find(q as char)
+                    .map(|p| i + 1 + p)
+                    .ok_or("unterminated string")?;
                 values.push(Value::Word(s[i + 1..end].to_string()));
                 i = end + 1;
             } else if let Some((len, v, _)) = number(&s[i..]) {
@@ -340,14 +565,18 @@ fn parse_args(stmt: &str, vocab: &[&str], s: &str) -> Result<Vec<Arg>, String> {
             }
             skip(&mut i, false);
             if i < b.len() && !matches!(b[i], b',' | b'\n') {
-                return Err(format!("unexpected `{}` in the value of `{key}`", &s[i..].chars().next().unwrap_or(' ')));
+                return Err(format!(
+                    "unexpected `{}` in the value of `{key}`",
+                    &s[i..].chars().next().unwrap_or(' ')
+                ));
             }
             // A list continues while the next item is a number or a string.
             let mut j = i;
             while j < b.len() && matches!(b[j], b',' | b'\n' | b' ' | b'\t' | b'\r') {
                 j += 1;
             }
-            let next_is_value = j < b.len() && (number(&s[j..]).is_some() || b[j] == b'\'' || b[j] == b'"');
+            let next_is_value =
+                j < b.len() && (number(&s[j..]).is_some() || b[j] == b'\'' || b[j] == b'"');
             if !next_is_value {
                 break;
             }
@@ -369,7 +598,16 @@ impl Statement {
     /// The numbers of an argument.
     pub fn nums(&self, key: &str) -> Option<Vec<f64>> {
         let a = self.arg(key)?;
-        a.values.iter().map(|v| if let Value::Num(x) = v { Some(*x) } else { None }).collect()
+        a.values
+            .iter()
+            .map(|v| {
+                if let Value::Num(x) = v {
+                    Some(*x)
+                } else {
+                    None
+                }
+            })
+            .collect()
     }
 
     pub fn int(&self, key: &str) -> Option<u32> {
@@ -430,7 +668,10 @@ mod tests {
         assert_eq!(st[0].view_name.as_deref(), Some("arm.B"));
         assert_eq!(st[0].nums("QP"), Some(vec![0.0, 15.0, -3.0]));
         assert_eq!(st[0].int("PART"), Some(1));
-        assert_eq!(st[1].expr("FUNCTION"), Some("- 100.0*(dm(204,205)-2.0)  - 1.0*vr(204,205)  + 0.0"));
+        assert_eq!(
+            st[1].expr("FUNCTION"),
+            Some("- 100.0*(dm(204,205)-2.0)  - 1.0*vr(204,205)  + 0.0")
+        );
         assert!(st[1].has("TRANSLATIONAL"));
         assert!(st[2].has("DISPLACEMENT"));
         assert_eq!(st[2].word("C"), Some("DISPLACEMENT: X Y Z"));

@@ -26,7 +26,11 @@ pub enum Address {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum AddressError {
     UnknownElement(String),
-    UnknownField { element: String, field: String, fields: Vec<&'static str> },
+    UnknownField {
+        element: String,
+        field: String,
+        fields: Vec<&'static str>,
+    },
     /// The field exists but is not a single linear number (a table law).
     NotLinear(String),
 }
@@ -34,9 +38,19 @@ pub enum AddressError {
 impl std::fmt::Display for AddressError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            AddressError::UnknownElement(e) => write!(f, "no parameter, bushing, spring or joint is called `{e}`"),
-            AddressError::UnknownField { element, field, fields } => {
-                write!(f, "`{element}` has no parameter `{field}` (it has {})", fields.join(", "))
+            AddressError::UnknownElement(e) => {
+                write!(f, "no parameter, bushing, spring or joint is called `{e}`")
+            }
+            AddressError::UnknownField {
+                element,
+                field,
+                fields,
+            } => {
+                write!(
+                    f,
+                    "`{element}` has no parameter `{field}` (it has {})",
+                    fields.join(", ")
+                )
             }
             AddressError::NotLinear(n) => write!(f, "`{n}` is a table law, not a single stiffness"),
         }
@@ -58,9 +72,17 @@ impl Address {
             let id = BushingId(b as u32);
             let fields = ["k_x", "k_y", "k_z", "kt_x", "kt_y", "kt_z"];
             let Some(n) = fields.iter().position(|f| *f == field) else {
-                return Err(AddressError::UnknownField { element: elem.into(), field: field.into(), fields: fields.to_vec() });
+                return Err(AddressError::UnknownField {
+                    element: elem.into(),
+                    field: field.into(),
+                    fields: fields.to_vec(),
+                });
             };
-            let a = if n < 3 { Address::BushingK(id, n) } else { Address::BushingKt(id, n - 3) };
+            let a = if n < 3 {
+                Address::BushingK(id, n)
+            } else {
+                Address::BushingKt(id, n - 3)
+            };
             return match a.law(model) {
                 Some(AxisLaw::Table(_)) => Err(AddressError::NotLinear(name.into())),
                 _ => Ok(a),
@@ -75,13 +97,21 @@ impl Address {
                 "k" => Ok(Address::SpringK(id)),
                 "free_length" => Ok(Address::SpringFreeLength(id)),
                 "preload" => Ok(Address::SpringPreload(id)),
-                _ => Err(AddressError::UnknownField { element: elem.into(), field: field.into(), fields: vec!["k", "free_length", "preload"] }),
+                _ => Err(AddressError::UnknownField {
+                    element: elem.into(),
+                    field: field.into(),
+                    fields: vec!["k", "free_length", "preload"],
+                }),
             };
         }
         if let Some(j) = model.joints.iter().position(|j| j.name == elem) {
             return match AXES.iter().position(|a| *a == field) {
                 Some(n) => Ok(Address::JointPoint(JointId(j as u32), n)),
-                None => Err(AddressError::UnknownField { element: elem.into(), field: field.into(), fields: AXES.to_vec() }),
+                None => Err(AddressError::UnknownField {
+                    element: elem.into(),
+                    field: field.into(),
+                    fields: AXES.to_vec(),
+                }),
             };
         }
         Err(AddressError::UnknownElement(elem.to_string()))
@@ -100,9 +130,13 @@ impl Address {
         match self {
             Address::Param(p) => model.params[p.index()].name.clone(),
             Address::BushingK(b, n) => format!("{}.k_{}", model.bushings[b.index()].name, AXES[n]),
-            Address::BushingKt(b, n) => format!("{}.kt_{}", model.bushings[b.index()].name, AXES[n]),
+            Address::BushingKt(b, n) => {
+                format!("{}.kt_{}", model.bushings[b.index()].name, AXES[n])
+            }
             Address::SpringK(s) => format!("{}.k", model.springs[s.index()].name),
-            Address::SpringFreeLength(s) => format!("{}.free_length", model.springs[s.index()].name),
+            Address::SpringFreeLength(s) => {
+                format!("{}.free_length", model.springs[s.index()].name)
+            }
             Address::SpringPreload(s) => format!("{}.preload", model.springs[s.index()].name),
             Address::JointPoint(j, n) => format!("{}.{}", model.joints[j.index()].name, AXES[n]),
         }
@@ -123,7 +157,9 @@ impl Address {
         match self {
             Address::Param(p) => ElementId::Param(p),
             Address::BushingK(b, _) | Address::BushingKt(b, _) => ElementId::Bushing(b),
-            Address::SpringK(s) | Address::SpringFreeLength(s) | Address::SpringPreload(s) => ElementId::Spring(s),
+            Address::SpringK(s) | Address::SpringFreeLength(s) | Address::SpringPreload(s) => {
+                ElementId::Spring(s)
+            }
             Address::JointPoint(j, _) => ElementId::Joint(j),
         }
     }
@@ -134,7 +170,11 @@ impl Address {
         f: impl FnOnce(&'m mut Val, &'m mut Val, &'m mut Val) -> &'m mut Val,
     ) -> Option<&'m mut Val> {
         match &mut model.springs[s.index()].law {
-            SpringLaw::Linear { k, free_length, preload } => Some(f(k, free_length, preload)),
+            SpringLaw::Linear {
+                k,
+                free_length,
+                preload,
+            } => Some(f(k, free_length, preload)),
             SpringLaw::Table(_) => None,
         }
     }
@@ -155,7 +195,11 @@ impl Address {
         match self {
             Address::BushingK(b, n) | Address::BushingKt(b, n) => {
                 let bush = &mut model.bushings[b.index()];
-                let law = if matches!(self, Address::BushingK(..)) { &mut bush.translational[n] } else { &mut bush.rotational[n] };
+                let law = if matches!(self, Address::BushingK(..)) {
+                    &mut bush.translational[n]
+                } else {
+                    &mut bush.rotational[n]
+                };
                 match law {
                     AxisLaw::Linear { k, .. } => Some(k),
                     AxisLaw::Table(_) => None,
@@ -232,7 +276,10 @@ mod tests {
     #[test]
     fn unknown_names_say_what_exists() {
         let m = model();
-        assert_eq!(Address::parse(&m, "nope.k"), Err(AddressError::UnknownElement("nope".into())));
+        assert_eq!(
+            Address::parse(&m, "nope.k"),
+            Err(AddressError::UnknownElement("nope".into()))
+        );
         match Address::parse(&m, "b.k_w") {
             Err(AddressError::UnknownField { fields, .. }) => assert!(fields.contains(&"k_x")),
             other => panic!("{other:?}"),

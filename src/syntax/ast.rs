@@ -224,8 +224,13 @@ pub struct LoadsDecl {
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum LoadsBody {
-    Table { columns: Vec<Column>, rows: Vec<Row> },
-    Sweep { lines: Vec<SweepLine> },
+    Table {
+        columns: Vec<Column>,
+        rows: Vec<Row>,
+    },
+    Sweep {
+        lines: Vec<SweepLine>,
+    },
 }
 
 /// A load channel as written: `fz`, `left.fz`, `arm.tip.fx`.

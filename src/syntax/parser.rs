@@ -17,7 +17,8 @@ type P<'a> = Pair<'a, Rule>;
 
 /// The next inner pair; the grammar guarantees it exists.
 fn next<'a>(it: &mut Pairs<'a, Rule>) -> P<'a> {
-    it.next().expect("invariant: the grammar guarantees this child")
+    it.next()
+        .expect("invariant: the grammar guarantees this child")
 }
 
 impl Builder {

@@ -69,7 +69,16 @@ fn found_range(text: &str, pos: usize) -> (usize, usize) {
     let pos = pos.min(text.len());
     let is_word = |c: char| c.is_alphanumeric() || c == '_';
     let inside_word = text[pos..].chars().next().is_some_and(is_word);
-    let start = if !inside_word { pos } else { text[..pos].char_indices().rev().take_while(|(_, c)| is_word(*c)).last().map_or(pos, |(i, _)| i) };
+    let start = if !inside_word {
+        pos
+    } else {
+        text[..pos]
+            .char_indices()
+            .rev()
+            .take_while(|(_, c)| is_word(*c))
+            .last()
+            .map_or(pos, |(i, _)| i)
+    };
     let rest = &text[start..];
     let len = match rest.chars().next() {
         None | Some('\n') | Some('\r') => 0,
@@ -81,7 +90,11 @@ fn found_range(text: &str, pos: usize) -> (usize, usize) {
 
 fn describe_found(text: &str, (s, e): (usize, usize)) -> String {
     if s == e {
-        if s >= text.len() { "the end of the file".into() } else { "the end of the line".into() }
+        if s >= text.len() {
+            "the end of the file".into()
+        } else {
+            "the end of the line".into()
+        }
     } else {
         format!("`{}`", &text[s..e])
     }
@@ -138,7 +151,13 @@ pub fn to_diagnostic(file: FileId, text: &str, e: &Error<Rule>) -> Diagnostic {
     }
     // A unit is the most specific thing a number can still take; say it first.
     // Then literal tokens (`=`, `,`, `}`): the most concrete advice.
-    words.sort_by_key(|w| (!w.starts_with("a unit"), !w.starts_with('`'), w.starts_with("an operator")));
+    words.sort_by_key(|w| {
+        (
+            !w.starts_with("a unit"),
+            !w.starts_with('`'),
+            w.starts_with("an operator"),
+        )
+    });
     let what = describe_found(text, range);
     let expected = join_or(&words);
     let span = Span::new(file, range.0, range.1);
