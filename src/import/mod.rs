@@ -6,6 +6,7 @@ mod adm;
 pub mod expr;
 mod forces;
 pub mod reader;
+mod vocab;
 
 use crate::diagnostic::Diagnostic;
 use crate::model::Model;
