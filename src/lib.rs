@@ -5,7 +5,7 @@
 //! 2. syntax tree → checked [`model::Model`] ([`check::check_file`]): names resolved,
 //!    units checked and converted to internal units (mm, N, rad), mobility analysed;
 //! 3. backends read the model: [`statics`] (equilibrium, K&C), the printer
-//!    ([`fmt`]), and later identification, diagnosis and ADAMS emitters.
+//!    ([`fmt`]), the ADAMS decks ([`emit`]); [`import`] reads ADAMS datasets back.
 //!
 //! Only `main.rs` and `cli/` touch the filesystem.
 
@@ -13,8 +13,10 @@ pub mod check;
 pub mod cli;
 pub mod data;
 pub mod diagnostic;
+pub mod emit;
 pub mod fmt;
 pub mod geom;
+pub mod import;
 pub mod kc;
 pub mod locate;
 pub mod measure;

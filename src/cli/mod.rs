@@ -2,7 +2,9 @@
 //! `main.rs` that reads or writes files.
 
 pub mod check;
+pub mod emit;
 pub mod fmt;
+pub mod import;
 pub mod input;
 pub mod kc;
 pub mod locate;
@@ -99,6 +101,27 @@ pub enum Cmd {
         #[arg(short, long, value_name = "FILE")]
         output: Option<PathBuf>,
     },
+    /// Write an ADAMS deck: dataset (adm), command file (acf) or Adams/Car loadcase file (lcf).
+    Emit {
+        #[arg(value_enum)]
+        kind: emit::DeckKind,
+        file: PathBuf,
+        /// Load set for acf/lcf (default: the file's default set, else its first).
+        #[arg(long)]
+        loadcases: Option<String>,
+        /// Output file (default: stdout).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
+    /// Read an ADAMS deck and write axle source.
+    Import {
+        #[arg(value_enum)]
+        kind: import::ImportKind,
+        file: PathBuf,
+        /// Output file (default: stdout).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
 }
 
 /// Exit status: 0 success, 1 the input is wrong, 2 usage or I/O error.
@@ -148,6 +171,17 @@ pub fn run(cli: Cli) -> Exit {
             output,
         }),
         Cmd::Locate(args) => locate::run(&args),
+        Cmd::Emit {
+            kind,
+            file,
+            loadcases,
+            output,
+        } => emit::run(kind, &file, loadcases.as_deref(), output.as_ref()),
+        Cmd::Import {
+            kind: _,
+            file,
+            output,
+        } => import::run(&file, output.as_ref()),
     }
 }
 
@@ -158,6 +192,23 @@ pub fn read(path: &std::path::Path) -> Option<String> {
         Err(e) => {
             eprintln!("error: cannot read {}: {e}", path.display());
             None
+        }
+    }
+}
+
+/// Writes `text` to `out`, or to stdout when no file is given.
+pub fn write_out(out: Option<&PathBuf>, text: &str) -> Exit {
+    match out {
+        Some(p) => match std::fs::write(p, text) {
+            Ok(()) => Exit::Ok,
+            Err(e) => {
+                eprintln!("error: cannot write {}: {e}", p.display());
+                Exit::Io
+            }
+        },
+        None => {
+            print!("{text}");
+            Exit::Ok
         }
     }
 }

@@ -1,0 +1,65 @@
+//! Why a model cannot be written as an ADAMS deck. Every variant names the
+//! element, so the user knows what to change; nothing is approximated silently.
+
+use std::fmt;
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum EmitError {
+    /// A value is NaN or infinite.
+    NotFinite { element: String, what: String },
+    /// A table has fewer than the 4 points an ADAMS SPLINE needs, or x not increasing.
+    BadTable { element: String, detail: String },
+    /// A load channel aims at no single wheel/marker.
+    UnresolvedLoad { set: String, channel: String },
+    /// A load channel cannot be written in an Adams/Car loadcase file.
+    NotAWheelLoad { set: String, channel: String },
+    /// Two wheels on the same side of the car (an `.lcf` has one left and one right column).
+    WheelSide { wheel: String, other: String },
+    /// The named load set does not exist.
+    UnknownLoadSet { name: String, known: Vec<String> },
+    /// The model has no load set to write.
+    NoLoadSet,
+    /// The model has no ground part.
+    NoGround,
+}
+
+impl fmt::Display for EmitError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EmitError::NotFinite { element, what } => {
+                write!(f, "{element}: {what} is not a finite number")
+            }
+            EmitError::BadTable { element, detail } => {
+                write!(
+                    f,
+                    "{element}: its table cannot be an ADAMS SPLINE: {detail}"
+                )
+            }
+            EmitError::UnresolvedLoad { set, channel } => write!(
+                f,
+                "load set `{set}`: channel `{channel}` aims at the model's only wheel, but the model has none or several"
+            ),
+            EmitError::NotAWheelLoad { set, channel } => write!(
+                f,
+                "load set `{set}`: channel `{channel}` is not a wheel load, and an Adams/Car loadcase file only has wheel columns"
+            ),
+            EmitError::WheelSide { wheel, other } => write!(
+                f,
+                "wheels `{other}` and `{wheel}` are on the same side; an Adams/Car loadcase file has one left and one right wheel"
+            ),
+            EmitError::UnknownLoadSet { name, known } => write!(
+                f,
+                "no load set `{name}` (known: {})",
+                if known.is_empty() {
+                    "none".to_string()
+                } else {
+                    known.join(", ")
+                }
+            ),
+            EmitError::NoLoadSet => write!(f, "the model has no load set to write"),
+            EmitError::NoGround => write!(f, "the model has no ground part"),
+        }
+    }
+}
+
+impl std::error::Error for EmitError {}

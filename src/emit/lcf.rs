@@ -1,0 +1,127 @@
+//! Model + load set → Adams/Car suspension loadcase file (`.lcf`, FILE_VERSION
+//! 6.0, the 19-column layout of thesis Annexe H and the public Adams/Car files):
+//! one row per load case, wheel forces in `wheel_vertical_force` mode, left and
+//! right columns from the model's wheels (left: centre y >= 0 at design).
+
+use super::error::EmitError;
+use super::writer::num;
+use crate::model::*;
+
+const COLUMNS: [&str; 19] = [
+    "whl_z_l",
+    "whl_z_r",
+    "lat_l",
+    "lat_r",
+    "dam_rad_l",
+    "dam_rad_r",
+    "dam_for_l",
+    "dam_for_r",
+    "align_l",
+    "align_r",
+    "brake_l",
+    "brake_r",
+    "drive_l",
+    "drive_r",
+    "otm_l",
+    "otm_r",
+    "rollres_l",
+    "rollres_r",
+    "steer",
+];
+
+/// The wheel a channel loads, or an error naming the channel.
+fn wheel_of(m: &Model, set: &LoadSet, ch: &Channel) -> Result<WheelId, EmitError> {
+    let name = || match ch.target {
+        LoadTarget::Marker(mk) => format!("{}.{}", m.marker_path(mk), ch.component.name()),
+        LoadTarget::Wheel(w) => format!("{}.{}", m.wheels[w.index()].name, ch.component.name()),
+        LoadTarget::DefaultWheel => ch.component.name().to_string(),
+    };
+    match ch.target {
+        LoadTarget::Wheel(w) => Ok(w),
+        LoadTarget::DefaultWheel if m.wheels.len() == 1 => Ok(WheelId(0)),
+        LoadTarget::DefaultWheel => Err(EmitError::UnresolvedLoad {
+            set: set.name.clone(),
+            channel: name(),
+        }),
+        LoadTarget::Marker(mk) => m
+            .wheels
+            .iter()
+            .position(|w| w.contact == mk)
+            .map(|k| WheelId(k as u32))
+            .ok_or_else(|| EmitError::NotAWheelLoad {
+                set: set.name.clone(),
+                channel: name(),
+            }),
+    }
+}
+
+pub fn emit_lcf(m: &Model, set: LoadSetId) -> Result<String, EmitError> {
+    let ls = m.load_sets.get(set.index()).ok_or(EmitError::NoLoadSet)?;
+    // Side of each wheel: 0 left, 1 right.
+    let mut side_of = Vec::new();
+    let mut taken: [Option<&str>; 2] = [None, None];
+    for w in &m.wheels {
+        let side = usize::from(m.marker(w.centre).origin().y < 0.0);
+        if let Some(other) = taken[side] {
+            return Err(EmitError::WheelSide {
+                wheel: w.name.clone(),
+                other: other.to_string(),
+            });
+        }
+        taken[side] = Some(&w.name);
+        side_of.push(side);
+    }
+    let mut targets = Vec::new();
+    for ch in &ls.channels {
+        targets.push(side_of[wheel_of(m, ls, ch)?.index()]);
+    }
+    let mut o = String::new();
+    let bar = |o: &mut String, t: &str| o.push_str(&format!("${}{t}\n", "-".repeat(79 - t.len())));
+    bar(&mut o, "MDI_HEADER");
+    o.push_str(
+        "[MDI_HEADER]\n FILE_TYPE     =  'lcf'\n FILE_VERSION  =  6.0\n FILE_FORMAT   =  'ascii'\n",
+    );
+    o.push_str("(COMMENTS)\n{comment_string}\n");
+    o.push_str(&format!(
+        "'axle model {} -- load set {} -- Static Load'\n",
+        m.name, ls.name
+    ));
+    bar(&mut o, "UNITS");
+    o.push_str("[UNITS]\n LENGTH  =  'mm'\n FORCE   =  'newton'\n ANGLE   =  'deg'\n MASS    =  'kg'\n TIME    =  'sec'\n");
+    bar(&mut o, "MODE");
+    o.push_str("[MODE]\n STEERING_MODE  =  'angle'\n VERTICAL_MODE  =  'wheel_vertical_force'\n COORDINATE_SYSTEM  =  'vehicle'\n");
+    bar(&mut o, "DATA");
+    o.push_str("[DATA]\n");
+    o.push_str("$ axle wheel loads at the contact point, global axes (x forward, y left, z up):\n");
+    o.push_str("$   whl_z = fz, lat = fy, brake = -fx (positive toward the rear),\n");
+    o.push_str("$   align = mz, otm = mx, rollres = my; damage, drive and steer are 0.\n");
+    for (w, s) in m.wheels.iter().zip(&side_of) {
+        o.push_str(&format!("$ {} wheel: {}\n", ["left", "right"][*s], w.name));
+    }
+    let names: Vec<&str> = ls.cases.iter().map(|c| c.name.as_str()).collect();
+    o.push_str(&format!("$ rows: {}\n", names.join(" ")));
+    o.push_str(&format!("{{ {} }}\n", COLUMNS.join("  ")));
+    for case in &ls.cases {
+        let mut row = [0.0f64; 19];
+        for ((ch, v), side) in ls.channels.iter().zip(&case.values).zip(&targets) {
+            if !v.is_finite() {
+                return Err(EmitError::NotFinite {
+                    element: format!("load case `{}`", case.name),
+                    what: "a load".into(),
+                });
+            }
+            let (col, val) = match ch.component {
+                Component::Fz => (0, *v),
+                Component::Fy => (2, *v),
+                Component::Mz => (8, *v),
+                Component::Fx => (10, -*v),
+                Component::Mx => (14, *v),
+                Component::My => (16, *v),
+            };
+            row[col + side] += val;
+        }
+        let cells: Vec<String> = row.iter().map(|v| num(*v)).collect();
+        o.push_str(&format!(" {}\n", cells.join("  ")));
+    }
+    Ok(o)
+}

@@ -1,0 +1,490 @@
+//! Statements → model: units, parts, markers, joints, wheels; force elements
+//! and loads are in [`super::forces`].
+
+use super::at;
+use super::expr::{self, Expr};
+use super::reader::{self, Statement};
+use crate::diagnostic::Diagnostic;
+use crate::geom::{Mat3, Vec3, euler_zxz};
+use crate::model::*;
+use crate::span::FileId;
+use std::collections::BTreeMap;
+
+/// A marker of the deck: its global pose at design and its model marker (None
+/// for floating and auxiliary markers, and for part frames).
+pub(crate) struct MInfo {
+    pub pos: Vec3,
+    pub rot: Mat3,
+    pub model: Option<MarkerId>,
+}
+
+pub(crate) struct Deck {
+    pub file: FileId,
+    pub problems: Vec<Diagnostic>,
+    /// Deck length and force units in mm and N.
+    pub len: f64,
+    pub force: f64,
+    pub parts: BTreeMap<u32, PartId>,
+    pub markers: BTreeMap<u32, MInfo>,
+    pub splines: BTreeMap<u32, Vec<(f64, f64)>>,
+    pub variables: BTreeMap<u32, Expr>,
+    pub model: Model,
+}
+
+impl Deck {
+    pub fn warn(&mut self, s: &Statement, msg: impl Into<String>) {
+        self.problems.push(at(
+            self.file,
+            s.span,
+            s.line,
+            false,
+            format!("{}: {}", s.label(), msg.into()),
+        ));
+    }
+    pub fn error(&mut self, s: &Statement, msg: impl Into<String>) {
+        self.problems.push(at(
+            self.file,
+            s.span,
+            s.line,
+            true,
+            format!("{}: {}", s.label(), msg.into()),
+        ));
+    }
+    /// The model marker of a deck marker id, or an error on `s`.
+    pub fn marker(&mut self, s: &Statement, key: &str) -> Option<MarkerId> {
+        let Some(id) = s.int(key) else {
+            self.error(s, format!("needs `{key} = id`"));
+            return None;
+        };
+        match self.markers.get(&id).and_then(|m| m.model) {
+            Some(m) => Some(m),
+            None => {
+                self.error(s, format!("{key} = {id} is not a marker axle can use"));
+                None
+            }
+        }
+    }
+}
+
+/// An axle identifier from an ADAMS name: the last `.` segment, other characters as `_`.
+pub(crate) fn ident(view: Option<&str>, fallback: String) -> String {
+    let raw = view.and_then(|v| v.rsplit('.').next()).unwrap_or("").trim();
+    let mut s: String = raw
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() {
+        s = fallback;
+    }
+    if !s.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_') {
+        s = format!("_{s}");
+    }
+    s
+}
+
+fn unique(name: String, taken: &[String], id: Option<u32>) -> String {
+    if taken.contains(&name) {
+        format!("{name}_{}", id.unwrap_or(0))
+    } else {
+        name
+    }
+}
+
+fn unit_factor(s: &Statement, key: &str, table: &[(&str, f64)]) -> Result<f64, String> {
+    match s.word(key) {
+        None => Ok(1.0),
+        Some(w) => table
+            .iter()
+            .find(|(n, _)| n.starts_with(w) || w.starts_with(n))
+            .map(|t| t.1)
+            .ok_or(format!("{key} = {w} is not supported")),
+    }
+}
+
+pub(crate) fn build(file: FileId, text: &str) -> (Option<Model>, Vec<Diagnostic>) {
+    let (title, stmts, errors) = reader::read(text);
+    let name = ident(
+        title
+            .as_deref()
+            .map(|t| t.rsplit(':').next().unwrap_or(t))
+            .map(|t| t.trim().replace(' ', "_"))
+            .as_deref(),
+        "imported".into(),
+    );
+    let mut d = Deck {
+        file,
+        problems: errors
+            .iter()
+            .map(|e| at(file, e.span, e.line, true, e.message.clone()))
+            .collect(),
+        len: 1.0,
+        force: 1.0,
+        parts: BTreeMap::new(),
+        markers: BTreeMap::new(),
+        splines: BTreeMap::new(),
+        variables: BTreeMap::new(),
+        model: Model {
+            name,
+            ..Model::default()
+        },
+    };
+    fn by<'a>(stmts: &'a [Statement], n: &'a str) -> impl Iterator<Item = &'a Statement> + 'a {
+        stmts.iter().filter(move |s| s.name == n)
+    }
+    for s in by(&stmts, "UNITS") {
+        if let Some(sys) = s.word("SYSTEM") {
+            d.error(
+                s,
+                format!("SYSTEM = {sys} is not supported; give FORCE and LENGTH"),
+            );
+        }
+        match unit_factor(
+            s,
+            "LENGTH",
+            &[
+                ("MILLIMETER", 1.0),
+                ("METER", 1000.0),
+                ("CENTIMETER", 10.0),
+                ("KILOMETER", 1.0e6),
+                ("INCH", 25.4),
+                ("FOOT", 304.8),
+            ],
+        ) {
+            Ok(f) => d.len = f,
+            Err(e) => d.error(s, e),
+        }
+        match unit_factor(
+            s,
+            "FORCE",
+            &[
+                ("NEWTON", 1.0),
+                ("KILONEWTON", 1000.0),
+                ("MILLINEWTON", 1.0e-3),
+                ("POUND_FORCE", 4.448221615),
+                ("KILOGRAM_FORCE", 9.80665),
+            ],
+        ) {
+            Ok(f) => d.force = f,
+            Err(e) => d.error(s, e),
+        }
+    }
+    parts(&mut d, by(&stmts, "PART").collect());
+    markers(&mut d, by(&stmts, "MARKER").collect());
+    for s in by(&stmts, "SPLINE") {
+        match (s.id, s.nums("X"), s.nums("Y")) {
+            (Some(id), Some(x), Some(y)) if x.len() == y.len() && x.len() >= 2 => {
+                d.splines.insert(id, x.into_iter().zip(y).collect());
+            }
+            _ => d.warn(
+                s,
+                "only SPLINEs with X and Y lists of equal length are read; skipped",
+            ),
+        }
+    }
+    for s in by(&stmts, "VARIABLE") {
+        match (s.id, s.expr("FUNCTION").map(expr::parse)) {
+            (Some(id), Some(Ok(e))) => {
+                d.variables.insert(id, e);
+            }
+            (_, Some(Err(e))) => d.error(s, e),
+            _ => d.warn(s, "a VARIABLE without FUNCTION = expression; skipped"),
+        }
+    }
+    for s in stmts
+        .iter()
+        .filter(|s| s.name == "JOINT" || s.name == "JPRIM")
+    {
+        joint(&mut d, s);
+    }
+    super::forces::all(&mut d, &stmts);
+    let mut skipped_requests = Vec::new();
+    for s in &stmts {
+        match s.name.as_str() {
+            "UNITS" | "PART" | "MARKER" | "SPLINE" | "VARIABLE" | "JOINT" | "JPRIM" | "BUSHING"
+            | "GFORCE" | "SFORCE" | "SPRINGDAMPER" | "VFORCE" | "VTORQUE" | "OUTPUT"
+            | "RESULTS" => {}
+            "REQUEST" => {
+                if !wheel(&mut d, s) {
+                    skipped_requests.push(s.line.to_string());
+                }
+            }
+            "ACCGRAV" => d.warn(
+                s,
+                "gravity is not part of an axle model (parts have no mass); skipped",
+            ),
+            _ => d.warn(s, "no axle equivalent; skipped"),
+        }
+    }
+    // Loads at a wheel's contact marker are that wheel's loads.
+    for set in &mut d.model.load_sets {
+        for ch in &mut set.channels {
+            if let LoadTarget::Marker(m) = ch.target {
+                if let Some(w) = d.model.wheels.iter().position(|w| w.contact == m) {
+                    ch.target = LoadTarget::Wheel(WheelId(w as u32));
+                }
+            }
+        }
+    }
+    if !skipped_requests.is_empty() {
+        let msg = format!(
+            "REQUESTs at lines {} are outputs; axle computes its own (solve, kc) and skips them",
+            skipped_requests.join(", ")
+        );
+        d.problems.push(Diagnostic::warning("W0602", msg));
+    }
+    (Some(d.model), d.problems)
+}
+
+fn parts(d: &mut Deck, stmts: Vec<&Statement>) {
+    let mut frames = BTreeMap::new();
+    for s in stmts {
+        let Some(id) = s.id else {
+            d.error(s, "a PART needs an id");
+            continue;
+        };
+        let ground = s.has("GROUND");
+        let taken: Vec<String> = d.model.parts.iter().map(|p| p.name.clone()).collect();
+        let name = unique(
+            ident(
+                s.view_name.as_deref(),
+                if ground {
+                    "ground".into()
+                } else {
+                    format!("part_{id}")
+                },
+            ),
+            &taken,
+            Some(id),
+        );
+        let qg = s.nums("QG").unwrap_or_else(|| vec![0.0; 3]);
+        let eu = s.nums("REULER").unwrap_or_else(|| vec![0.0; 3]);
+        if qg.len() != 3 || eu.len() != 3 {
+            d.error(s, "QG and REULER need 3 values");
+            continue;
+        }
+        if s.has("XG") || s.has("ZG") {
+            d.error(
+                s,
+                "part frames given by XG/ZG are not supported; use REULER",
+            );
+            continue;
+        }
+        frames.insert(
+            id,
+            (
+                Vec3::new(qg[0], qg[1], qg[2]) * d.len,
+                euler_zxz(eu[0], eu[1], eu[2]),
+            ),
+        );
+        d.parts.insert(id, PartId(d.model.parts.len() as u32));
+        d.model.parts.push(Part { name, ground });
+    }
+    // Part frames are only needed to place markers; keep them on the markers.
+    for (id, f) in frames {
+        d.markers.insert(
+            u32::MAX - id,
+            MInfo {
+                pos: f.0,
+                rot: f.1,
+                model: None,
+            },
+        );
+    }
+}
+
+fn markers(d: &mut Deck, stmts: Vec<&Statement>) {
+    for s in stmts {
+        let (Some(id), Some(part)) = (s.id, s.int("PART")) else {
+            d.error(s, "a MARKER needs an id and PART = id");
+            continue;
+        };
+        let Some(&pid) = d.parts.get(&part) else {
+            d.error(s, format!("PART = {part} is not defined"));
+            continue;
+        };
+        let (fp, fr) = d
+            .markers
+            .get(&(u32::MAX - part))
+            .map(|f| (f.pos, f.rot))
+            .unwrap_or((Vec3::zeros(), Mat3::identity()));
+        let floating = s.has("FLOATING");
+        let qp = s.nums("QP").unwrap_or_else(|| vec![0.0; 3]);
+        if qp.len() != 3 {
+            d.error(s, "QP needs 3 values");
+            continue;
+        }
+        let local = Vec3::new(qp[0], qp[1], qp[2]) * d.len;
+        let (orientation, rot) = if let Some(e) = s.nums("REULER") {
+            if e.len() != 3 {
+                d.error(s, "REULER needs 3 values");
+                continue;
+            }
+            let r = euler_zxz(e[0], e[1], e[2]);
+            let o = if e.iter().all(|v| *v == 0.0) {
+                Orientation::Identity
+            } else {
+                Orientation::Euler(vals([e[0], e[1], e[2]]))
+            };
+            (o, r)
+        } else if let Some(zp) = s.nums("ZP").filter(|v| v.len() == 3) {
+            let z = Vec3::new(zp[0], zp[1], zp[2]) * d.len - local;
+            let x = s
+                .nums("XP")
+                .filter(|v| v.len() == 3)
+                .map(|xp| Vec3::new(xp[0], xp[1], xp[2]) * d.len - local);
+            match crate::geom::frame_from_z_x(z, x) {
+                Ok(r) => (Orientation::Directions { z, x }, r),
+                Err(_) => {
+                    d.error(s, "ZP/XP do not define a frame");
+                    continue;
+                }
+            }
+        } else {
+            (Orientation::Identity, Mat3::identity())
+        };
+        let pos = fp + fr * local;
+        let rot = fr * rot;
+        // A part frame away from the global frame: write the marker's global axes.
+        let orientation = if fr != Mat3::identity() {
+            Orientation::Directions {
+                z: rot.column(2).into(),
+                x: Some(rot.column(0).into()),
+            }
+        } else {
+            orientation
+        };
+        let name = ident(s.view_name.as_deref(), format!("m{id}"));
+        let aux = floating || name.starts_with("axle_");
+        let model = (!aux).then(|| {
+            let taken: Vec<String> = d
+                .model
+                .markers
+                .iter()
+                .filter(|m| m.part == pid)
+                .map(|m| m.name.clone())
+                .collect();
+            let name = unique(name, &taken, Some(id));
+            d.model.markers.push(Marker {
+                name,
+                part: pid,
+                position: vals([pos.x, pos.y, pos.z]),
+                orientation,
+                rotation: rot,
+            });
+            MarkerId(d.model.markers.len() as u32 - 1)
+        });
+        if d.markers.contains_key(&id) {
+            d.error(s, format!("MARKER/{id} is defined twice"));
+            continue;
+        }
+        d.markers.insert(id, MInfo { pos, rot, model });
+    }
+}
+
+fn joint(d: &mut Deck, s: &Statement) {
+    const KINDS: [(&str, JointKind); 10] = [
+        ("SPHERICAL", JointKind::Spherical),
+        ("ATPOINT", JointKind::Spherical),
+        ("UNIVERSAL", JointKind::Universal),
+        ("REVOLUTE", JointKind::Revolute),
+        ("CYLINDRICAL", JointKind::Cylindrical),
+        ("TRANSLATIONAL", JointKind::Translational),
+        ("FIXED", JointKind::Fixed),
+        ("INLINE", JointKind::Inline),
+        ("INPLANE", JointKind::Inplane),
+        ("HOOKE", JointKind::Universal),
+    ];
+    let Some(&(kw, kind)) = KINDS.iter().find(|(k, _)| s.has(k)) else {
+        let kind = s
+            .args
+            .iter()
+            .find(|a| a.values.is_empty())
+            .map_or("?".to_string(), |a| a.key.clone());
+        d.warn(s, format!("{kind} has no axle equivalent; skipped"));
+        return;
+    };
+    let (Some(mut i), Some(mut j)) = (d.marker(s, "I"), d.marker(s, "J")) else {
+        return;
+    };
+    if kw == "HOOKE" {
+        // HOOKE keeps x_I perpendicular to y_J (its z axes run along the shafts);
+        // axle's universal keeps z_I perpendicular to z_J, so the cross axes get
+        // their own markers: z along x_I on I's part and along y_J on J's part.
+        let mut cross = |m: MarkerId, col: usize, tag: &str| {
+            let src = d.model.marker(m).clone();
+            let z: Vec3 = src.rotation.column(col).into();
+            let x: Vec3 = src.rotation.column(2).into();
+            let rot = crate::geom::frame_from_z_x(z, Some(x)).unwrap_or(src.rotation);
+            d.model.markers.push(Marker {
+                name: format!("{}_{tag}", src.name),
+                orientation: Orientation::Directions { z, x: Some(x) },
+                rotation: rot,
+                ..src
+            });
+            MarkerId(d.model.markers.len() as u32 - 1)
+        };
+        i = cross(i, 0, "hooke_i");
+        j = cross(j, 1, "hooke_j");
+        d.warn(
+            s,
+            "HOOKE read as a universal joint on cross-axis markers (x_I ⟂ y_J, see docs/adams.md)",
+        );
+    }
+    let taken: Vec<String> = d.model.joints.iter().map(|j| j.name.clone()).collect();
+    let name = unique(
+        ident(
+            s.view_name.as_deref(),
+            format!("{}_{}", s.name.to_lowercase(), s.id.unwrap_or(0)),
+        ),
+        &taken,
+        s.id,
+    );
+    d.model.joints.push(Joint { name, kind, i, j });
+}
+
+/// A wheel from the `wheel.<name>.centre` / `.contact` requests axle writes.
+fn wheel(d: &mut Deck, s: &Statement) -> bool {
+    let Some(v) = s.view_name.as_deref() else {
+        return false;
+    };
+    let parts: Vec<&str> = v.split('.').collect();
+    let ["wheel", name, what] = parts.as_slice() else {
+        return false;
+    };
+    if *what == "angles" {
+        return true;
+    }
+    let Some(m) = s
+        .int("I")
+        .and_then(|i| d.markers.get(&i))
+        .and_then(|m| m.model)
+    else {
+        return false;
+    };
+    let part = d.model.marker(m).part;
+    let name = ident(Some(name), "wheel".into());
+    let k = match d.model.wheels.iter().position(|w| w.name == name) {
+        Some(k) => k,
+        None => {
+            d.model.wheels.push(Wheel {
+                name,
+                part,
+                centre: m,
+                contact: m,
+            });
+            d.model.wheels.len() - 1
+        }
+    };
+    match *what {
+        "centre" => d.model.wheels[k].centre = m,
+        "contact" => d.model.wheels[k].contact = m,
+        _ => return false,
+    }
+    true
+}

@@ -1,0 +1,313 @@
+//! ADAMS decks: snapshots of the decks emitted for every example, the
+//! emit → import → emit fixed point, equal equilibria of imported models, an
+//! independent strict reading of every emitted deck, REULER extraction, the
+//! thesis Annexe F import, and error cases (never a panic).
+
+mod adams_reader;
+
+use axle::check::check_str;
+use axle::emit::{emit_acf, emit_adm, emit_lcf, load_set};
+use axle::geom::{Mat3, euler_zxz, frame_from_z_x};
+use axle::import::import_adm;
+use axle::model::{Model, PointLoad};
+use axle::statics::{Problem, State, solve};
+
+fn examples() -> Vec<(String, Model)> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut paths: Vec<_> = std::fs::read_dir(&root)
+        .expect("examples/")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .collect();
+    paths.retain(|p| p.extension().is_some_and(|e| e == "axle"));
+    paths.sort();
+    paths
+        .iter()
+        .map(|p| {
+            let text = std::fs::read_to_string(p).expect("readable");
+            let name = p
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let (_, checked) = check_str(&format!("{name}.axle"), &text);
+            (name, checked.model.expect("examples check clean"))
+        })
+        .collect()
+}
+
+fn adm(m: &Model) -> String {
+    emit_adm(m).expect("emits").text
+}
+
+fn import(text: &str) -> Model {
+    let imp = import_adm("deck.adm", text);
+    let errs: Vec<String> = imp
+        .problems
+        .iter()
+        .filter(|d| d.severity == axle::diagnostic::Severity::Error)
+        .map(|d| d.message.clone())
+        .collect();
+    assert!(errs.is_empty(), "{errs:?}");
+    imp.model.expect("imports")
+}
+
+#[test]
+fn emitted_decks_of_every_example() {
+    for (name, m) in examples() {
+        insta::assert_snapshot!(format!("{name}.adm"), adm(&m));
+        let set = load_set(&m, None);
+        let acf = set
+            .clone()
+            .and_then(|s| emit_acf(&m, s, &format!("{name}.adm"), &name));
+        insta::assert_snapshot!(
+            format!("{name}.acf"),
+            acf.unwrap_or_else(|e| format!("error: {e}"))
+        );
+        let lcf = set.and_then(|s| emit_lcf(&m, s));
+        insta::assert_snapshot!(
+            format!("{name}.lcf"),
+            lcf.unwrap_or_else(|e| format!("error: {e}"))
+        );
+    }
+}
+
+#[test]
+fn every_emitted_deck_passes_the_strict_reader() {
+    for (name, m) in examples() {
+        let text = adm(&m);
+        let st = adams_reader::parse(&text).unwrap_or_else(|e| panic!("{name}: {e}"));
+        adams_reader::check(&st).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let bushings = st.iter().filter(|s| s.name == "BUSHING").count();
+        let gforces = st
+            .iter()
+            .filter(|s| {
+                s.name == "GFORCE" && s.values.contains_key("TZ") && s.values["FX"].contains("DX(")
+            })
+            .count();
+        assert_eq!(
+            bushings + gforces,
+            m.bushings.len(),
+            "{name}: one force element per bushing"
+        );
+    }
+}
+
+#[test]
+fn emit_import_emit_is_a_fixed_point() {
+    for (name, m) in examples() {
+        let first = adm(&m);
+        let again = adm(&import(&first));
+        assert_eq!(first, again, "{name}");
+    }
+}
+
+/// Solves every case of every load set of `a`, and the same loads (mapped by
+/// marker path) on `b`, each case from the previous state; part poses agree.
+fn same_equilibria(name: &str, a: &Model, b: &Model) {
+    let (pa, pb) = (Problem::new(a).expect("a"), Problem::new(b).expect("b"));
+    for set in 0..a.load_sets.len() {
+        let id = axle::model::LoadSetId(set as u32);
+        let (mut sa, mut sb) = (State::design(a), State::design(b));
+        for case in 0..a.load_sets[set].cases.len() {
+            let la = a.point_loads(id, case);
+            let lb: Vec<PointLoad> = la
+                .iter()
+                .map(|l| {
+                    let mk = a.marker(l.marker);
+                    let part = b.part_named(&a.part(mk.part).name).expect("same parts");
+                    PointLoad {
+                        marker: b.marker_named(part, &mk.name).expect("same markers"),
+                        ..*l
+                    }
+                })
+                .collect();
+            // A case the original cannot solve (the tour model under the McPherson
+            // sets' largest loads) must fail on the imported model too.
+            match (solve(&pa, &la, &sa), solve(&pb, &lb, &sb)) {
+                (Ok(ea), Ok(eb)) => (sa, sb) = (ea.state, eb.state),
+                (Err(_), Err(_)) => break,
+                (ra, rb) => panic!(
+                    "{name} set {} case {case}: {:?} vs {:?}",
+                    a.load_sets[set].name,
+                    ra.err(),
+                    rb.err()
+                ),
+            }
+            for (k, p) in a.parts.iter().enumerate() {
+                let (xa, ra) = sa.part_pose(axle::model::PartId(k as u32));
+                let (xb, rb) = sb.part_pose(b.part_named(&p.name).expect("part"));
+                let err = (xa - xb).norm().max((ra - rb).abs().max() * 1000.0);
+                assert!(
+                    err < 1e-6,
+                    "{name} set {} case {case} part {}: {err:e} mm",
+                    a.load_sets[set].name,
+                    p.name
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn imported_models_reach_the_same_equilibria() {
+    for (name, m) in examples() {
+        let back = import(&adm(&m));
+        same_equilibria(&name, &m, &back);
+    }
+}
+
+#[test]
+fn reuler_reproduces_marker_axes_including_singular_angles() {
+    // Markers written by directions whose ZXZ angles are known, including
+    // theta = 0 and 180° where only psi ± phi is defined.
+    let cases: [(f64, f64, f64); 6] = [
+        (30.0, 0.0, 20.0),
+        (30.0, 180.0, 20.0),
+        (-90.0, 180.0, 0.0),
+        (10.0, 20.0, 30.0),
+        (141.5, 166.7, 53.68),
+        (0.0, 90.0, 0.0),
+    ];
+    let mut src = String::from(
+        "model r\nground g {\n    marker o at (0, 0, 0) mm\n}\npart p {\n    marker o at (0, 0, 0) mm\n",
+    );
+    let mut rots = Vec::new();
+    for (k, (p, t, f)) in cases.iter().enumerate() {
+        let r = euler_zxz(p.to_radians(), t.to_radians(), f.to_radians());
+        let (z, x) = (r.column(2), r.column(0));
+        src += &format!(
+            "    marker m{k} at (1, 2, 3) mm z ({}, {}, {}) x ({}, {}, {})\n",
+            z[0], z[1], z[2], x[0], x[1], x[2]
+        );
+        rots.push(frame_from_z_x(z.into(), Some(x.into())).expect("frame"));
+    }
+    src += "}\nbushing b {\n    i p.o\n    j g.o\n    k (1, 1, 1) N/mm\n    kt (1, 1, 1) N*mm/deg\n}\n";
+    let (_, checked) = check_str("r.axle", &src);
+    let m = checked.model.expect("checks");
+    let st = adams_reader::parse(&adm(&m)).expect("reads");
+    for (k, r) in rots.iter().enumerate() {
+        let mk = st
+            .iter()
+            .find(|s| s.view.as_deref() == Some(&format!("p.m{k}")))
+            .expect("marker");
+        let a = mk.nums("REULER");
+        let back: Mat3 = euler_zxz(a[0].to_radians(), a[1].to_radians(), a[2].to_radians());
+        assert!((back - r).abs().max() < 1e-9, "case {k}: {a:?}");
+        if cases[k].1 == 0.0 || cases[k].1 == 180.0 {
+            assert_eq!(a[2], 0.0, "singular case {k}: phi is set to 0");
+        }
+    }
+}
+
+#[test]
+fn thesis_annexe_f_deck_becomes_an_axle_file() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/adams/annexe_f.adm"
+    ))
+    .expect("data");
+    let imp = import_adm("annexe_f.adm", &text);
+    let src = imp.source.expect("imports");
+    for want in [
+        "model model_exemple11",
+        "ground ground {",
+        "part PART_2 {",
+        "marker MARKER_8 at (0, 0, 0) mm euler (28.18678543, 33.22594022, 350.8538915) deg",
+        "marker MARKER_13 at (-300, 0, 0) mm",
+        "marker cm at (-150,",
+        "joint JOINT_1 cylindrical {",
+        "i PART_2.MARKER_7",
+        "j ground.MARKER_8",
+        "k_radial 100 N/mm",
+        "kt_radial 9999.9999",
+    ] {
+        assert!(src.contains(want), "missing `{want}` in\n{src}");
+    }
+    // Skipped statements are reported with their lines, never silently.
+    let msgs: Vec<&str> = imp.problems.iter().map(|d| d.message.as_str()).collect();
+    assert!(
+        msgs.iter().any(|m| m.starts_with("line 41: GRAPHICS/2")),
+        "{msgs:?}"
+    );
+    assert!(msgs.iter().any(|m| m.contains("damping")), "{msgs:?}");
+    assert!(msgs.iter().any(|m| m.contains("TIME")), "{msgs:?}");
+    // FY = 1000 sin(0.15 pi) at TIME = 0.
+    assert!(src.contains("453.99049974"), "{src}");
+}
+
+#[test]
+fn a_malformed_line_gets_a_diagnostic_with_its_line() {
+    let imp = import_adm(
+        "bad.adm",
+        "title\nPART/1, GROUND\nMARKER/2, PART = 1, QP = 1, 2, oops3\nJOINT 3, I = 2\n",
+    );
+    let msgs: Vec<&str> = imp.problems.iter().map(|d| d.message.as_str()).collect();
+    assert!(msgs.iter().any(|m| m.starts_with("line 4:")), "{msgs:?}");
+    assert!(imp.source.is_none());
+}
+
+#[test]
+fn elements_adams_cannot_hold_are_errors_naming_them() {
+    let m = examples()
+        .into_iter()
+        .find(|(n, _)| n == "four_bar")
+        .expect("four_bar")
+        .1;
+    let e = emit_lcf(&m, load_set(&m, None).expect("set")).expect_err("no wheels");
+    assert!(e.to_string().contains("coupler.mid.fx"), "{e}");
+    let e = load_set(&m, Some("nope")).expect_err("unknown");
+    assert!(e.to_string().contains("nope"), "{e}");
+}
+
+mod no_panics {
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
+        #[test]
+        fn mutated_decks_never_panic(cut in 0usize..4000, len in 0usize..40, junk in "[ -~\n]{0,12}") {
+            let text = include_str!("data/adams/annexe_f.adm");
+            let (a, b) = (cut.min(text.len()), (cut + len).min(text.len()));
+            if text.is_char_boundary(a) && text.is_char_boundary(b) {
+                let mutated = format!("{}{}{}", &text[..a], junk, &text[b..]);
+                let _ = axle::import::import_adm("m.adm", &mutated);
+            }
+        }
+    }
+}
+
+#[test]
+fn cli_emit_and_import_exit_codes() {
+    let bin = env!("CARGO_BIN_EXE_axle");
+    let dir = std::env::temp_dir().join(format!("axle_adams_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("tmp");
+    let ex = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/mcpherson.axle");
+    let out = dir.join("m.adm");
+    let st = std::process::Command::new(bin)
+        .args(["emit", "adm", ex, "-o"])
+        .arg(&out)
+        .status()
+        .expect("runs");
+    assert_eq!(st.code(), Some(0));
+    let st = std::process::Command::new(bin)
+        .args(["import", "adm"])
+        .arg(&out)
+        .arg("-o")
+        .arg(dir.join("m.axle"))
+        .status()
+        .expect("runs");
+    assert_eq!(st.code(), Some(0));
+    let bad = dir.join("bad.adm");
+    std::fs::write(&bad, "t\nPART 1\n").expect("write");
+    let o = std::process::Command::new(bin)
+        .args(["import", "adm"])
+        .arg(&bad)
+        .output()
+        .expect("runs");
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("line 2"));
+    let st = std::process::Command::new(bin)
+        .args(["emit", "lcf", "/nonexistent.axle"])
+        .status()
+        .expect("runs");
+    assert_eq!(st.code(), Some(2));
+}
