@@ -97,6 +97,22 @@ pub fn spherical(rels: &[Rel], prior: &Vec3, sigma: f64) -> Option<Fit> {
     solve(&m, &b, prior, 0, sigma)
 }
 
+/// How far the spherical fit's centre moves per mm of an unmodelled
+/// displacement along `dirs[c]` at each step (`M⁺` applied to the stacked
+/// directions): a bushing that yields along its link biases the centre by this
+/// much times its deformation.
+pub fn sensitivity(rels: &[Rel], dirs: &[Vec3]) -> Option<Vec3> {
+    let (m, _) = stack(rels, |r| (r.rotation - Mat3::identity(), Vec3::zeros()), 3);
+    let mut d = DVector::zeros(3 * rels.len());
+    for (c, u) in dirs.iter().enumerate().take(rels.len()) {
+        for i in 0..3 {
+            d[3 * c + i] = u[i];
+        }
+    }
+    let x = m.svd(true, true).solve(&d, 1e-12).ok()?;
+    Some(Vec3::new(x[0], x[1], x[2]))
+}
+
 /// Ball joint on a part that slides along the known unit direction `u`
 /// relative to part 1 (the rack, eq. 3.17–3.21): only the components of the
 /// displacement across `u` must vanish.

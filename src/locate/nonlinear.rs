@@ -62,11 +62,38 @@ pub fn strut_top(rels: &[Rel], start: &Vec3, sigma: f64) -> Searched {
     let (_, dir) = line_misfit(&pts);
     let i = dir.iamax();
     let axis = if dir[i] < 0.0 { -dir } else { dir };
+    let residual = (fx / pts.len() as f64).sqrt();
+    // A misfit above the noise is model error (a yielding top mount): it, not
+    // the noise, bounds what the search can claim. Only the directions across
+    // the axis count: the top's height along its own axis is confounded with
+    // the mount's deformation (thesis §6.7–6.9: axis right, height wrong).
+    let s = sigma.max(residual);
+    let (vals, vecs) = curvature(&f, &x, 0.5);
+    let h = vecs * nalgebra::Matrix3::from_diagonal(&vals) * vecs.transpose();
+    let e1 = axis
+        .cross(&if axis.x.abs() < 0.9 {
+            Vec3::x()
+        } else {
+            Vec3::y()
+        })
+        .normalize();
+    let e2 = axis.cross(&e1);
+    let b = nalgebra::Matrix2::new(
+        e1.dot(&(h * e1)),
+        e1.dot(&(h * e2)),
+        e2.dot(&(h * e1)),
+        e2.dot(&(h * e2)),
+    );
+    let flattest = b.symmetric_eigenvalues().min();
     Searched {
         center: x,
         axis: Some(axis),
-        residual: (fx / pts.len() as f64).sqrt(),
-        uncertainty: uncertainty(&f, &x, sigma),
+        residual,
+        uncertainty: if flattest > 0.0 {
+            (2.0 * s * s / flattest).sqrt()
+        } else {
+            f64::INFINITY
+        },
     }
 }
 
@@ -80,15 +107,16 @@ pub fn link_bushing(rels: &[Rel], ball: &Vec3, start: &Vec3, sigma: f64) -> Sear
         }
         let u = d.normalize();
         rels.iter()
-            .map(|r| (r.apply(x) - x).cross(&u).norm_squared())
+            .map(|r| (r.apply(x) - x).cross(&(r.rotation * u)).norm_squared())
             .sum::<f64>()
     };
     let (x, fx) = minimise(&f, *start, 5.0, 1e-7, 4000);
+    let residual = (fx / rels.len().max(1) as f64).sqrt();
     Searched {
         center: x,
         axis: Some((x - ball).normalize()),
-        residual: (fx / rels.len().max(1) as f64).sqrt(),
-        uncertainty: uncertainty(&f, &x, sigma),
+        residual,
+        uncertainty: uncertainty(&f, &x, sigma.max(residual)),
     }
 }
 

@@ -45,6 +45,9 @@ pub struct Located {
     pub residual: f64,
     pub uncertainty: f64,
     pub observable: bool,
+    /// A direction along which the motion does not determine the centre (it was
+    /// kept from the model), global at design.
+    pub undetermined: Option<Vec3>,
     pub note: String,
 }
 
@@ -64,6 +67,10 @@ fn stiffness_along(model: &Model, b: &Bushing, dir: &Vec3) -> f64 {
         .map(|k| b.translational[k].initial_stiffness() * local[k] * local[k])
         .sum()
 }
+
+/// A centre that moves more than this (mm) per mm of link-wise bushing
+/// deformation is not determined by the motion along that direction.
+const CONFOUND: f64 = 2.0;
 
 /// Locates every joint and bushing it can.
 pub fn locate_all(model: &Model, steps: &[StepPoses], opt: &Options) -> Vec<Located> {
@@ -86,6 +93,7 @@ pub fn locate_all(model: &Model, steps: &[StepPoses], opt: &Options) -> Vec<Loca
             residual: 0.0,
             uncertainty: f64::INFINITY,
             observable: false,
+            undetermined: None,
             note: String::new(),
         };
         if !(seen(p1) && seen(p2)) {
@@ -144,6 +152,7 @@ pub fn locate_all(model: &Model, steps: &[StepPoses], opt: &Options) -> Vec<Loca
             residual: 0.0,
             uncertainty: f64::INFINITY,
             observable: false,
+            undetermined: None,
             note: String::new(),
         };
         if !(seen(p1) && seen(p2)) {
@@ -167,15 +176,41 @@ pub fn locate_all(model: &Model, steps: &[StepPoses], opt: &Options) -> Vec<Loca
                 from_search(nonlinear::link_bushing(&rels_link, &c, &prior, opt.sigma)),
             ),
             _ => match linear::spherical(&rels, &prior, opt.sigma) {
-                Some(f) => (
-                    match k_link {
-                        Some(k) => format!(
-                            "stiff bushing as a ball joint (eq. 3.12; {k:.0} N/mm along the link)"
-                        ),
-                        None => "bushing as a ball joint (eq. 3.12)".to_string(),
-                    },
-                    from_fit(f),
-                ),
+                Some(f) => {
+                    let mut note = String::new();
+                    let mut c = f.center;
+                    // A stiff bushing still yields a little along its link; where the
+                    // motion cannot tell that from a shifted centre, keep the model's
+                    // coordinate (the thesis' treatment of pivots, §6.6 a).
+                    if let Some(ball) = ball {
+                        let u = (ball - prior).normalize();
+                        let dirs: Vec<Vec3> = rels.iter().map(|r| r.rotation * u).collect();
+                        if let Some(g) =
+                            linear::sensitivity(&rels, &dirs).filter(|g| g.norm() > CONFOUND)
+                        {
+                            let gh = g.normalize();
+                            c -= gh * gh.dot(&(c - prior));
+                            l.undetermined = Some(gh);
+                            note = format!(
+                                "the position along ({:.2}, {:.2}, {:.2}) is confounded with the bushing's deformation along its link ({:.1} mm per mm): kept from the model",
+                                gh.x,
+                                gh.y,
+                                gh.z,
+                                g.norm()
+                            );
+                        }
+                    }
+                    l.note = note;
+                    (
+                        match k_link {
+                            Some(k) => format!(
+                                "stiff bushing as a ball joint (eq. 3.12; {k:.0} N/mm along the link)"
+                            ),
+                            None => "bushing as a ball joint (eq. 3.12)".to_string(),
+                        },
+                        (c, None, f.residual, f.uncertainty),
+                    )
+                }
                 None => continue,
             },
         };
@@ -257,6 +292,11 @@ fn struts(model: &Model, steps: &[StepPoses], opt: &Options) -> Vec<Located> {
         };
         let rels = relative(model, steps, slide_part, top_part);
         let s = nonlinear::strut_top(&rels, &prior, opt.sigma);
+        // The height along the strut axis is kept from the model (see strut_top).
+        let (center, undetermined) = match s.axis {
+            Some(a) => (s.center - a * a.dot(&(s.center - prior)), Some(a)),
+            None => (s.center, None),
+        };
         let l = Located {
             element,
             name: name.clone(),
@@ -267,12 +307,13 @@ fn struts(model: &Model, steps: &[StepPoses], opt: &Options) -> Vec<Located> {
                 model.part(slide_part).name
             ),
             frame: top_part,
-            center: Some(s.center),
+            center: Some(center),
             axis: s.axis,
             residual: s.residual,
             uncertainty: s.uncertainty,
             observable: false,
-            note: String::new(),
+            undetermined,
+            note: "the height along the strut axis is not determined by the motion (confounded with the top mount's deformation): kept from the model".into(),
         };
         let located = verdict(l, &rels, opt);
         let cj = &model.joints[cyl];

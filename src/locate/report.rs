@@ -18,6 +18,9 @@ pub struct Entry {
     pub residual_mm: f64,
     pub uncertainty_mm: Option<f64>,
     pub observable: bool,
+    /// A direction (global, at the reference step) along which the motion does
+    /// not determine the centre; the centre's coordinate along it is the model's.
+    pub undetermined_direction: Option<[f64; 3]>,
     pub note: String,
 }
 
@@ -50,6 +53,7 @@ pub fn report(model: &Model, steps: &[StepPoses], located: &[Located], reference
                 residual_mm: l.residual,
                 uncertainty_mm: (ok && l.uncertainty.is_finite()).then_some(l.uncertainty),
                 observable: ok,
+                undetermined_direction: l.undetermined.filter(|_| ok).map(|d| arr(r * d)),
                 note: l.note.clone(),
             };
             (l.name.clone(), entry)
