@@ -210,3 +210,95 @@ fn the_strut_top_is_observable_only_with_steering() {
         f.uncertainty
     );
 }
+
+fn axle(args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_axle"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn scratch(name: &str, text: &str) -> String {
+    let p = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::write(&p, text).expect("write");
+    p.to_string_lossy().into_owned()
+}
+
+#[test]
+fn locate_cli_prints_the_interface_json_and_writes_the_located_model() {
+    let csv = scratch(
+        "locate_t44.csv",
+        &landmarks(&truth(), &["thesis_table_4_4"], 0.05, 2),
+    );
+    let out = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("located.axle");
+    let o = out.to_string_lossy().into_owned();
+    let (code, stdout, stderr) = axle(&[
+        "locate",
+        "examples/mcpherson.axle",
+        "--landmarks",
+        &csv,
+        "--format",
+        "json",
+        "-o",
+        &o,
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON document");
+    assert_eq!(v["reference_step"], 1);
+    let l8 = &v["joints"]["L8"];
+    assert_eq!(l8["kind"], "spherical");
+    assert_eq!(l8["observable"], true);
+    assert_eq!(l8["center"].as_array().expect("centre").len(), 3);
+    assert!(l8["residual_mm"].is_number() && l8["uncertainty_mm"].is_number());
+    assert!(l8["method"].as_str().expect("method").contains("3.12"));
+    // The strut top without steering: a verdict, not a number.
+    let f = &v["joints"]["F"];
+    assert_eq!(f["observable"], false);
+    assert!(f["center"].is_null() && f["axis"].is_null() && f["uncertainty_mm"].is_null());
+    assert!(f["note"].as_str().expect("note").contains("not observable"));
+    // The located model checks, and carries the located ball joint (design coordinates).
+    let text = std::fs::read_to_string(&out).expect("written");
+    let (_, checked) = axle::check::check_str("located.axle", &text);
+    let located = checked.model.expect("the located model checks");
+    let truth = truth();
+    let at = |m: &Model, joint: &str| {
+        m.marker(m.joints.iter().find(|j| j.name == joint).expect("joint").i)
+            .origin()
+    };
+    let e = (at(&located, "L8") - at(&truth, "L8")).norm();
+    assert!(
+        e < 4.0 * l8["uncertainty_mm"].as_f64().expect("u") + 0.05,
+        "L8 {e} mm from the truth"
+    );
+    assert!(
+        (at(&located, "L8") - at(&mcpherson(), "L8")).norm() > 0.5,
+        "moved from the nominal"
+    );
+}
+
+#[test]
+fn locate_cli_reports_bad_data_with_its_line() {
+    let csv = scratch(
+        "bad_landmarks.csv",
+        "step,part,landmark,x,y,z\n1,upright,m1,62,749,234\n1,upright,m2,-48,abc,209\n",
+    );
+    let (code, _, stderr) = axle(&["locate", "examples/mcpherson.axle", "--landmarks", &csv]);
+    assert_eq!(code, 1);
+    assert!(
+        stderr.contains(&format!("{csv}:3:")) && stderr.contains("`abc` is not a number"),
+        "{stderr}"
+    );
+    let (code, _, _) = axle(&[
+        "locate",
+        "examples/mcpherson.axle",
+        "--landmarks",
+        "no/such.csv",
+    ]);
+    assert_eq!(code, 2);
+}

@@ -2,6 +2,7 @@
 //! `main.rs` that reads or writes files.
 
 pub mod check;
+pub mod correct;
 pub mod emit;
 pub mod fmt;
 pub mod import;
@@ -54,6 +55,8 @@ pub enum Cmd {
     },
     /// Joint centres and axes from landmark motion (thesis chapter 3).
     Locate(locate::Args),
+    /// Geometric correction at one measured equilibrium (thesis chapter 2).
+    Correct(correct::Args),
     /// Rewrite axle files in canonical layout (comments kept).
     Fmt {
         #[arg(required = true)]
@@ -171,6 +174,7 @@ pub fn run(cli: Cli) -> Exit {
             output,
         }),
         Cmd::Locate(args) => locate::run(&args),
+        Cmd::Correct(args) => correct::run(&args),
         Cmd::Emit {
             kind,
             file,

@@ -1,6 +1,7 @@
 //! Joint localisation from part motion (thesis chapter 3): centres and axes of
 //! joints and bushings from the measured poses of the parts they connect.
 
+pub mod correct;
 pub mod linear;
 pub mod motion;
 pub mod nonlinear;

@@ -1,0 +1,135 @@
+//! `axle correct FILE --landmarks CSV [--step N] [--loadcases SET] --case NAME -o OUT.axle`.
+
+use super::Exit;
+use crate::diagnostic::{Diagnostic, render};
+use crate::source::SourceMap;
+use crate::span::Span;
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The axle model, with its parts as measured disassembled.
+    pub file: PathBuf,
+    /// Landmark CSV of the assembled axle: step, part, landmark, x, y, z.
+    #[arg(long)]
+    pub landmarks: PathBuf,
+    /// The measured step to correct against (default: the first).
+    #[arg(long)]
+    pub step: Option<usize>,
+    /// The load set holding the measured case (default: the file's default set).
+    #[arg(long, value_name = "SET")]
+    pub loadcases: Option<String>,
+    /// The load case the axle was measured under.
+    #[arg(long, value_name = "CASE")]
+    pub case: String,
+    /// Write the corrected model (designed at the measured state) here.
+    #[arg(short = 'o', long = "output")]
+    pub output: Option<PathBuf>,
+    /// Landmark matching tolerance, mm.
+    #[arg(long, default_value_t = 0.5)]
+    pub tolerance: f64,
+}
+
+pub fn run(a: &Args) -> Exit {
+    let mut sources = SourceMap::new();
+    let Some(text) = super::read(&a.file) else {
+        return Exit::Io;
+    };
+    let id = sources.add(a.file.display().to_string(), text);
+    let checked = crate::check::check_file(&mut sources, id);
+    render::to_stderr(&sources, &checked.problems.list);
+    let Some(model) = checked.model else {
+        return Exit::Input;
+    };
+    let set_name = a.loadcases.clone().or_else(|| {
+        model
+            .default_load_set
+            .map(|s| model.load_sets[s.index()].name.clone())
+    });
+    let Some(set) = set_name.as_deref().and_then(|n| model.load_set_named(n)) else {
+        eprintln!(
+            "error: no load set `{}` in {}",
+            set_name.unwrap_or_default(),
+            a.file.display()
+        );
+        return Exit::Input;
+    };
+    let ls = &model.load_sets[set.index()];
+    let Some(case) = ls.cases.iter().position(|c| c.name == a.case) else {
+        let hint = crate::diagnostic::suggest::did_you_mean(
+            &a.case,
+            ls.cases.iter().map(|c| c.name.as_str()),
+        )
+        .unwrap_or_default();
+        eprintln!(
+            "error: load set `{}` has no case `{}` {hint}",
+            ls.name, a.case
+        );
+        return Exit::Input;
+    };
+    let loads = model.point_loads(set, case);
+    let Some(data) = super::read(&a.landmarks) else {
+        return Exit::Io;
+    };
+    let data_id = sources.add(a.landmarks.display().to_string(), data.clone());
+    let (obs, skipped) = match crate::data::landmarks::read(&data, &model) {
+        Ok(x) => x,
+        Err(e) => {
+            render::to_stderr(&sources, &[e.to_diagnostic(data_id)]);
+            return Exit::Input;
+        }
+    };
+    let mut warnings: Vec<Diagnostic> = skipped
+        .iter()
+        .map(|s| {
+            Diagnostic::warning("W0710", s.message.clone())
+                .primary(Span::new(data_id, s.start, s.end), "left out")
+        })
+        .collect();
+    let (steps, issues) = crate::measure::poses::fit_poses(&model, &obs, a.tolerance);
+    warnings.extend(
+        issues
+            .iter()
+            .map(|i| Diagnostic::warning("W0711", i.message(&model))),
+    );
+    render::to_stderr(&sources, &warnings);
+    let step = a.step.or(steps.first().map(|s| s.step));
+    let Some(measured) = steps.iter().find(|s| Some(s.step) == step) else {
+        eprintln!(
+            "error: no measured step {} in {}",
+            step.unwrap_or(0),
+            a.landmarks.display()
+        );
+        return Exit::Input;
+    };
+    let c = match crate::locate::correct::correct(&model, measured, &loads) {
+        Ok(c) => c,
+        Err(e) => {
+            render::to_stderr(&sources, &[e.to_diagnostic(&model)]);
+            return Exit::Input;
+        }
+    };
+    println!(
+        "corrected against step {} under case `{}` ({} passes)",
+        measured.step, a.case, c.iterations
+    );
+    println!("{:<12} {:>10}", "element", "moved (mm)");
+    for (e, d) in &c.moved {
+        println!("{:<12} {d:>10.3}", model.describe(*e));
+    }
+    for (e, why) in &c.skipped {
+        println!("{:<12} not corrected: {why}", model.describe(*e));
+    }
+    println!(
+        "largest landmark misfit of the corrected equilibrium: {:.3} mm",
+        c.misfit
+    );
+    if let Some(out) = &a.output {
+        let text = crate::fmt::print_model(&crate::locate::correct::redesign(&c.model, &c.state));
+        if let Err(e) = std::fs::write(out, text) {
+            eprintln!("error: cannot write {}: {e}", out.display());
+            return Exit::Io;
+        }
+    }
+    Exit::Ok
+}
