@@ -15,6 +15,7 @@ pub mod data;
 pub mod diagnostic;
 pub mod fmt;
 pub mod geom;
+pub mod identify;
 pub mod kc;
 pub mod measure;
 pub mod model;
