@@ -129,3 +129,106 @@ fn four_bar_out_of_plane_torsions_only_as_sums() {
         assert_eq!(c.unit, "N*mm/deg");
     }
 }
+
+fn mcpherson() -> Model {
+    model(include_str!("../examples/mcpherson.axle"))
+}
+
+/// Landmark measurements of `truth` along its load set `set`, through the
+/// whole measuring path: synthetic CSV → reader → pose fits → steps.
+fn measured_from_landmarks(truth: &Model, set: &str, sigma: f64, seed: u64) -> Measured {
+    let id = truth.load_set_named(set).expect("load set");
+    let csv =
+        axle::measure::synthetic::landmarks_csv(truth, id, sigma, seed).expect("truth solves");
+    let (obs, skipped) = axle::data::landmarks::read(&csv, truth).expect("reads");
+    assert!(skipped.is_empty());
+    let (poses, issues) = axle::measure::poses::fit_poses(truth, &obs, 0.5);
+    assert!(issues.is_empty());
+    let loads = identify::measured::loads_of_set(truth, id);
+    let steps: Vec<usize> = poses.iter().map(|p| p.step).collect();
+    let loads = identify::measured::match_in_order(loads, &steps).expect("counts agree");
+    Measured::from_poses(truth, &poses, &loads).expect("measured")
+}
+
+/// Toe (deg) of the model's wheel along a load set.
+fn toe_along(m: &Model, set: &str) -> Vec<f64> {
+    let id = m.load_set_named(set).expect("load set");
+    statics::solve_set(m, id)
+        .expect("solves")
+        .iter()
+        .map(|e| axle::kc::wheel_quantities(m, &e.state, &m.wheels[0]).toe_deg)
+        .collect()
+}
+
+/// Largest toe difference over the lateral and longitudinal sweeps, as a
+/// fraction of the truth's toe range on that sweep.
+fn toe_mismatch(truth: &Model, other: &Model) -> f64 {
+    let mut worst: f64 = 0.0;
+    for set in ["lateral", "longitudinal"] {
+        let a = toe_along(truth, set);
+        let b = toe_along(other, set);
+        let range =
+            a.iter().cloned().fold(f64::MIN, f64::max) - a.iter().cloned().fold(f64::MAX, f64::min);
+        let d = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        worst = worst.max(d / range);
+    }
+    worst
+}
+
+fn ab_unknowns(m: &Model) -> Vec<Unknown> {
+    let names: Vec<String> = ["A", "B"]
+        .iter()
+        .flat_map(|b| ["k_x", "k_y", "k_z", "kt_x", "kt_y", "kt_z"].map(|f| format!("{b}.{f}")))
+        .collect();
+    identify::select_unknowns(m, &names).expect("unknowns")
+}
+
+fn with_all(m: &Model, u: &[Unknown], boundary_value: f64) -> Model {
+    let mut w = m.clone();
+    for x in u {
+        x.set(&mut w, axle::units::from_boundary(boundary_value, x.dim));
+    }
+    w
+}
+
+/// Tables 5.2 and 5.3, figure 5.9: bushings A and B of the McPherson from both
+/// of the thesis' initial guesses. Both runs converge, k_x of both arms (the
+/// stiffnesses along the arms) comes out right, and both identified models
+/// reproduce the reference toe under lateral and longitudinal force.
+#[test]
+fn mcpherson_iterative_from_both_initial_guesses() {
+    let truth = mcpherson();
+    let data = measured_from_landmarks(&truth, "thesis_table_5_1", 0.0, 1);
+    let u = ab_unknowns(&truth);
+    for start in [10000.0, 500.0] {
+        let init = with_all(&truth, &u, start);
+        let u0 = ab_unknowns(&init);
+        let r = identify::iterative::identify(&init, &u0, &data, Default::default())
+            .unwrap_or_else(|e| panic!("start {start}: {e}"));
+        eprintln!("start {start}: {} iterations", r.iterations);
+        for (un, p) in r.unknowns.iter().zip(&r.params) {
+            eprintln!(
+                "  {} {:?} {}",
+                un.label(),
+                p.value.map(|v| axle::units::to_boundary(v, un.dim)),
+                p.identifiable
+            );
+        }
+        let (_, ax) = param(&r, "A.k_x");
+        let (_, bx) = param(&r, "B.k_x");
+        assert!(rel(ax.value.expect("A.k_x"), 13875.0) < 0.05, "{ax:?}");
+        assert!(rel(bx.value.expect("B.k_x"), 310.0) < 0.05, "{bx:?}");
+        let identified = r.apply(&init);
+        let before = toe_mismatch(&truth, &init);
+        let after = toe_mismatch(&truth, &identified);
+        eprintln!("toe mismatch {before} -> {after}");
+        assert!(
+            after < 0.05,
+            "start {start}: toe mismatch {after} of the range (initial {before})"
+        );
+    }
+}

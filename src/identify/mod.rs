@@ -20,7 +20,7 @@
 pub mod columns;
 pub mod combinations;
 pub mod direct;
-//ITER pub mod iterative;
+pub mod iterative;
 pub mod linalg;
 //LSQ pub mod lsq;
 pub mod measured;
