@@ -3,6 +3,7 @@
 
 pub mod check;
 pub mod fmt;
+pub mod identify;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
@@ -42,6 +43,9 @@ pub enum Cmd {
         #[arg(long)]
         check: bool,
     },
+    /// Identify stiffnesses (and other unknowns) from measured equilibria
+    /// (thesis chapters 4 and 5, and least squares).
+    Identify(identify::IdentifyArgs),
 }
 
 /// Exit status: 0 success, 1 the input is wrong, 2 usage or I/O error.
@@ -56,6 +60,7 @@ pub fn run(cli: Cli) -> Exit {
     match cli.cmd {
         Cmd::Check { files, format } => check::run(&files, format),
         Cmd::Fmt { files, check } => fmt::run(&files, check),
+        Cmd::Identify(args) => identify::run(&args),
     }
 }
 

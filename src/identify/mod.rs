@@ -22,7 +22,7 @@ pub mod combinations;
 pub mod direct;
 pub mod iterative;
 pub mod linalg;
-//LSQ pub mod lsq;
+pub mod lsq;
 pub mod measured;
 pub mod unknowns;
 
