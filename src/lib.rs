@@ -16,6 +16,7 @@ pub mod diagnostic;
 pub mod emit;
 pub mod fmt;
 pub mod geom;
+pub mod identify;
 pub mod import;
 pub mod kc;
 pub mod locate;

@@ -5,6 +5,7 @@ pub mod check;
 pub mod correct;
 pub mod emit;
 pub mod fmt;
+pub mod identify;
 pub mod import;
 pub mod input;
 pub mod kc;
@@ -125,6 +126,9 @@ pub enum Cmd {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
+    /// Identify stiffnesses (and other unknowns) from measured equilibria
+    /// (thesis chapters 4 and 5, and least squares).
+    Identify(identify::IdentifyArgs),
 }
 
 /// Exit status: 0 success, 1 the input is wrong, 2 usage or I/O error.
@@ -186,6 +190,7 @@ pub fn run(cli: Cli) -> Exit {
             file,
             output,
         } => import::run(&file, output.as_ref()),
+        Cmd::Identify(args) => identify::run(&args),
     }
 }
 

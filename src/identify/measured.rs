@@ -1,0 +1,272 @@
+//! The identification input: per measured step, the applied loads and the
+//! measured pose of each part (from landmark pose fits, or from solved states
+//! in tests), and optionally the K&C channels measured at that step.
+//!
+//! Loads come from a K&C file (its `fx, fy, fz[, mx, my, mz]` columns), a
+//! loads file, or a load-case set of the model matched to the steps in order.
+
+use super::IdentifyError;
+use crate::data::CsvError;
+use crate::data::table;
+use crate::geom::{Mat3, Vec3};
+use crate::measure::poses::StepPoses;
+use crate::model::{ElementId, LoadSet, LoadSetId, Model, PartId, PointLoad};
+use crate::statics::State;
+
+/// K&C channels of one step (`interfaces.md`, "K&C rig data"), of the first wheel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KcObservation {
+    pub toe_deg: f64,
+    pub camber_deg: f64,
+    /// Wheel centre, mm, global.
+    pub wc: Vec3,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeasuredStep {
+    /// The step number of the data files.
+    pub step: usize,
+    pub loads: Vec<PointLoad>,
+    /// Pose (origin, rotation) of each part, indexed like `Model::parts`;
+    /// `None` for a part not measured at this step. Ground is the identity.
+    pub poses: Vec<Option<(Vec3, Mat3)>>,
+    pub kc: Option<KcObservation>,
+}
+
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Measured {
+    pub steps: Vec<MeasuredStep>,
+}
+
+impl Measured {
+    /// Steps from landmark pose fits and one load case per step, in step order.
+    pub fn from_poses(
+        model: &Model,
+        poses: &[StepPoses],
+        loads: &[(usize, Vec<PointLoad>)],
+    ) -> Result<Measured, IdentifyError> {
+        let mut steps = Vec::with_capacity(poses.len());
+        for sp in poses {
+            let Some((_, l)) = loads.iter().find(|(s, _)| *s == sp.step) else {
+                return Err(IdentifyError::new(
+                    format!("step {} has landmarks but no loads", sp.step),
+                    vec![],
+                ));
+            };
+            let mut p: Vec<Option<(Vec3, Mat3)>> = vec![None; model.parts.len()];
+            for (part, pose) in &sp.parts {
+                p[part.index()] = Some((pose.translation, pose.rotation));
+            }
+            if let Some(g) = model.ground() {
+                p[g.index()] = Some((Vec3::zeros(), Mat3::identity()));
+            }
+            steps.push(MeasuredStep {
+                step: sp.step,
+                loads: l.clone(),
+                poses: p,
+                kc: None,
+            });
+        }
+        if steps.is_empty() {
+            return Err(IdentifyError::new("the landmark data give no pose", vec![]));
+        }
+        Ok(Measured { steps })
+    }
+
+    /// Steps whose every part pose is taken from a solved state (synthetic data
+    /// without landmarks, as the thesis' chapter 4 validations do).
+    pub fn from_states(model: &Model, states: &[(State, Vec<PointLoad>)]) -> Measured {
+        let steps = states
+            .iter()
+            .enumerate()
+            .map(|(k, (st, l))| MeasuredStep {
+                step: k + 1,
+                loads: l.clone(),
+                poses: (0..model.parts.len())
+                    .map(|p| Some(st.part_pose(PartId(p as u32))))
+                    .collect(),
+                kc: None,
+            })
+            .collect();
+        Measured { steps }
+    }
+
+    /// Whether `part` has a pose at every step.
+    pub fn has_part(&self, part: PartId) -> bool {
+        self.steps
+            .iter()
+            .all(|s| s.poses.get(part.index()).is_some_and(|p| p.is_some()))
+    }
+
+    /// The first moving part without a pose at some step.
+    pub fn missing_part(&self, model: &Model) -> Option<PartId> {
+        model.moving_parts().find(|p| !self.has_part(*p))
+    }
+
+    /// The measured configuration of step `k` as a statics state (parts
+    /// without a pose at their design pose).
+    pub fn state(&self, k: usize) -> State {
+        let s = &self.steps[k];
+        State {
+            poses: s
+                .poses
+                .iter()
+                .map(|p| p.unwrap_or((Vec3::zeros(), Mat3::identity())))
+                .collect(),
+            loads: Vec::new(),
+            lambda: Vec::new(),
+        }
+    }
+}
+
+/// The loads of every case of a model's load set, numbered 1, 2, … (matched to
+/// the landmark steps in order).
+pub fn loads_of_set(model: &Model, set: LoadSetId) -> Vec<(usize, Vec<PointLoad>)> {
+    let n = model
+        .load_sets
+        .get(set.index())
+        .map_or(0, |s| s.cases.len());
+    (0..n).map(|c| (c, model.point_loads(set, c))).collect()
+}
+
+/// Renumbers loads given in order to the measured steps in order.
+pub fn match_in_order(
+    loads: Vec<(usize, Vec<PointLoad>)>,
+    steps: &[usize],
+) -> Result<Vec<(usize, Vec<PointLoad>)>, IdentifyError> {
+    if loads.len() != steps.len() {
+        return Err(IdentifyError::new(
+            format!(
+                "the load-case set has {} cases but the landmarks have {} steps; they are matched in order",
+                loads.len(),
+                steps.len()
+            ),
+            vec![],
+        ));
+    }
+    Ok(steps.iter().zip(loads).map(|(s, (_, l))| (*s, l)).collect())
+}
+
+/// The loads of a loads or K&C file, by step number.
+pub fn loads_of_file(
+    model: &Model,
+    text: &str,
+) -> Result<(Vec<(usize, Vec<PointLoad>)>, LoadSet), CsvError> {
+    let set = crate::data::loads::read(text, "measured", model)?;
+    let steps = step_numbers(text)?;
+    let mut m = model.clone();
+    m.load_sets.push(set.clone());
+    let id = LoadSetId((m.load_sets.len() - 1) as u32);
+    let out = steps
+        .iter()
+        .enumerate()
+        .take(set.cases.len())
+        .map(|(c, s)| (*s, m.point_loads(id, c)))
+        .collect();
+    Ok((out, set))
+}
+
+/// Distinct step numbers in order of first appearance (the order in which the
+/// loads reader makes its cases).
+fn step_numbers(text: &str) -> Result<Vec<usize>, CsvError> {
+    let t = table::parse(text)?;
+    let Some(c) = t.column("step") else {
+        return Ok(Vec::new());
+    };
+    let mut out: Vec<usize> = Vec::new();
+    for row in &t.rows {
+        if let Some(f) = row.fields.get(c) {
+            if let Ok(s) = f.text.parse::<usize>() {
+                if !out.contains(&s) {
+                    out.push(s);
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The K&C channels of a K&C file, by step (first row of each step).
+pub fn kc_channels(text: &str) -> Result<Vec<(usize, KcObservation)>, CsvError> {
+    let t = table::parse(text)?;
+    let names = ["step", "toe_deg", "camber_deg", "wc_x", "wc_y", "wc_z"];
+    let mut cols = [0usize; 6];
+    for (k, n) in names.iter().enumerate() {
+        cols[k] = t.column(n).ok_or_else(|| {
+            CsvError::new(
+                "E0703",
+                format!("the K&C file has no column `{n}`"),
+                (t.header.start, t.header.end),
+                "header row",
+            )
+            .with_hint(Some(
+                "a K&C file has the columns step, fx, fy, fz, wc_x, wc_y, wc_z, toe_deg, camber_deg"
+                    .into(),
+            ))
+        })?;
+    }
+    let mut out: Vec<(usize, KcObservation)> = Vec::new();
+    for row in &t.rows {
+        let mut v = [0.0; 6];
+        for k in 0..6 {
+            let Some(f) = row.fields.get(cols[k]) else {
+                return Err(CsvError::new(
+                    "E0704",
+                    format!("line {} has fewer fields than the header", row.line),
+                    (row.start, row.end),
+                    "this row",
+                ));
+            };
+            v[k] = match f.text.parse::<f64>() {
+                Ok(x) if x.is_finite() => x,
+                _ => {
+                    return Err(CsvError::new(
+                        "E0705",
+                        format!("`{}` is not a number (column `{}`)", f.text, names[k]),
+                        (f.start, f.end),
+                        "not a number",
+                    ));
+                }
+            };
+        }
+        let step = v[0] as usize;
+        if v[0] < 0.0 || v[0].fract() != 0.0 {
+            let f = &row.fields[cols[0]];
+            return Err(CsvError::new(
+                "E0705",
+                format!("`{}` is not a step number", f.text),
+                (f.start, f.end),
+                "in column `step`",
+            ));
+        }
+        if out.iter().all(|(s, _)| *s != step) {
+            out.push((
+                step,
+                KcObservation {
+                    toe_deg: v[1],
+                    camber_deg: v[2],
+                    wc: Vec3::new(v[3], v[4], v[5]),
+                },
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// Attaches K&C channels to the steps with the same number.
+pub fn attach_kc(measured: &mut Measured, kc: &[(usize, KcObservation)]) {
+    for s in &mut measured.steps {
+        s.kc = kc.iter().find(|(k, _)| *k == s.step).map(|(_, o)| *o);
+    }
+}
+
+/// The error for a part every step must measure.
+pub fn unmeasured(model: &Model, part: PartId, method: &str) -> IdentifyError {
+    IdentifyError::new(
+        format!(
+            "the {method} method needs the pose of every moving part at every step, and part `{}` has none (no landmarks, or too few matched); identify with a model without it (thesis §4.3.3 replaces the strut by an inline joint) or use --method iterative or lsq",
+            model.part(part).name
+        ),
+        vec![ElementId::Part(part)],
+    )
+}

@@ -1,0 +1,169 @@
+//! Which parameters are unknown: those the file marks `unknown`, or those named
+//! on the command line, else every bushing stiffness and every spring's k and
+//! free length (the thesis' question). The radial pair of an axisymmetric
+//! bushing (k_x and k_y, or kt_x and kt_y, both unknown) is one unknown, since
+//! the model states that they are equal (thesis eq. 4.40, 5.13).
+
+use super::IdentifyError;
+use crate::model::address::Address;
+use crate::model::{AxisLaw, BushingId, ElementId, Model, SpringId, SpringLaw, Symmetry};
+use crate::units::Dim;
+
+/// One unknown: one or more addresses that always share a value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Unknown {
+    pub addrs: Vec<Address>,
+    /// Names as `interfaces.md` writes them, one per address.
+    pub names: Vec<String>,
+    pub dim: Dim,
+    /// Value in the model, internal units.
+    pub initial: f64,
+}
+
+impl Unknown {
+    fn new(model: &Model, addrs: Vec<Address>) -> Unknown {
+        let names = addrs.iter().map(|a| a.name(model)).collect();
+        Unknown {
+            dim: addrs[0].dim(model),
+            initial: addrs[0].get(model),
+            addrs,
+            names,
+        }
+    }
+
+    /// `A.k_x` or `A.k_x = A.k_y` for a tied pair.
+    pub fn label(&self) -> String {
+        self.names.join(" = ")
+    }
+
+    pub fn set(&self, model: &mut Model, v: f64) {
+        for a in &self.addrs {
+            a.set(model, v);
+        }
+    }
+
+    /// A stiffness (positive by nature): bushing k, kt, spring k, or a declared
+    /// parameter with a stiffness dimension.
+    pub fn is_stiffness(&self) -> bool {
+        self.dim == Dim::STIFFNESS || self.dim == Dim::ROT_STIFFNESS
+    }
+
+    pub fn bushing(&self) -> Option<(BushingId, bool, usize)> {
+        match self.addrs[0] {
+            Address::BushingK(b, n) => Some((b, false, n)),
+            Address::BushingKt(b, n) => Some((b, true, n)),
+            _ => None,
+        }
+    }
+
+    pub fn element(&self) -> ElementId {
+        self.addrs[0].element()
+    }
+}
+
+fn linear(l: &AxisLaw) -> bool {
+    matches!(l, AxisLaw::Linear { .. })
+}
+
+/// Every linear bushing stiffness and every linear spring's k and free length.
+fn defaults(model: &Model) -> Vec<Address> {
+    let mut out = Vec::new();
+    for (k, b) in model.bushings.iter().enumerate() {
+        let id = BushingId(k as u32);
+        for n in 0..3 {
+            if linear(&b.translational[n]) {
+                out.push(Address::BushingK(id, n));
+            }
+        }
+        for n in 0..3 {
+            if linear(&b.rotational[n]) {
+                out.push(Address::BushingKt(id, n));
+            }
+        }
+    }
+    for (k, s) in model.springs.iter().enumerate() {
+        if matches!(s.law, SpringLaw::Linear { .. }) {
+            out.push(Address::SpringK(SpringId(k as u32)));
+            out.push(Address::SpringFreeLength(SpringId(k as u32)));
+        }
+    }
+    out
+}
+
+/// Resolves the unknowns: `names` when given, else parameters marked unknown,
+/// else the defaults; axisymmetric radial pairs tied.
+pub fn select_unknowns(model: &Model, names: &[String]) -> Result<Vec<Unknown>, IdentifyError> {
+    let mut addrs: Vec<Address> = Vec::new();
+    if !names.is_empty() {
+        for n in names {
+            let a =
+                Address::parse(model, n).map_err(|e| IdentifyError::new(e.to_string(), vec![]))?;
+            if !addrs.contains(&a) {
+                addrs.push(a);
+            }
+        }
+    } else {
+        for (k, p) in model.params.iter().enumerate() {
+            if p.unknown.is_some() {
+                addrs.push(Address::Param(crate::model::ParamId(k as u32)));
+            }
+        }
+        if addrs.is_empty() {
+            addrs = defaults(model);
+        }
+    }
+    let mut out: Vec<Unknown> = Vec::new();
+    let mut used = vec![false; addrs.len()];
+    for i in 0..addrs.len() {
+        if used[i] {
+            continue;
+        }
+        used[i] = true;
+        let mut group = vec![addrs[i]];
+        // Tie x to y of an axisymmetric bushing.
+        let partner = match addrs[i] {
+            Address::BushingK(b, 0) => Some(Address::BushingK(b, 1)),
+            Address::BushingKt(b, 0) => Some(Address::BushingKt(b, 1)),
+            _ => None,
+        };
+        if let Some(p) = partner {
+            let b = match p {
+                Address::BushingK(b, _) | Address::BushingKt(b, _) => b,
+                _ => unreachable!("partner is a bushing address"),
+            };
+            if model.bushings[b.index()].symmetry == Symmetry::Axisymmetric {
+                if let Some(j) = addrs.iter().position(|a| *a == p) {
+                    used[j] = true;
+                    group.push(p);
+                }
+            }
+        }
+        out.push(Unknown::new(model, group));
+    }
+    if out.is_empty() {
+        return Err(IdentifyError::new(
+            "nothing to identify: the model has no linear bushing or spring and no parameter marked unknown",
+            vec![],
+        ));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mcpherson_defaults_tie_the_radial_pairs() {
+        let (_, c) =
+            crate::check::check_str("m.axle", include_str!("../../examples/mcpherson.axle"));
+        let m = c.model.expect("checks");
+        let u = select_unknowns(&m, &[]).expect("unknowns");
+        // B: 6; A and F axisymmetric: 4 each; spring k and free length.
+        assert_eq!(u.len(), 6 + 4 + 4 + 2);
+        assert!(u.iter().any(|u| u.label() == "A.k_x = A.k_y"));
+        let named = select_unknowns(&m, &["A.k_x".into(), "spring.k".into()]).expect("named");
+        assert_eq!(named.len(), 2);
+        assert!(select_unknowns(&m, &["nope.k".into()]).is_err());
+    }
+}
