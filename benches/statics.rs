@@ -4,8 +4,8 @@
 //! ground. Run with `cargo bench --bench statics`.
 
 use axle::model::{Channel, LoadSet, LoadSetId, LoadTarget, Model, PartId, WheelId};
+use axle::statics::Problem;
 use axle::statics::path::{solve_path, solve_path_from};
-use axle::statics::{Problem, State};
 use divan::Bencher;
 
 fn main() {
@@ -14,15 +14,32 @@ fn main() {
     let p = Problem::new(&m).expect("problem");
     let cold = solve_path(&p, set).expect("solves");
     let warm = solve_path_from(&p, set, &cold[cold.len() - 1].state).expect("solves");
-    let its = |eqs: &[axle::statics::Equilibrium]| eqs.iter().map(|e| e.iterations.to_string()).collect::<Vec<_>>().join(" ");
-    println!("thesis_table_5_1 iterations per case, from design: {}", its(&cold));
-    println!("thesis_table_5_1 iterations per case, warm start:  {}", its(&warm));
+    let its = |eqs: &[axle::statics::Equilibrium]| {
+        eqs.iter()
+            .map(|e| e.iterations.to_string())
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    println!(
+        "thesis_table_5_1 iterations per case, from design: {}",
+        its(&cold)
+    );
+    println!(
+        "thesis_table_5_1 iterations per case, warm start:  {}",
+        its(&warm)
+    );
+    let subs: Vec<String> = warm.iter().map(|e| e.substeps.to_string()).collect();
+    println!(
+        "thesis_table_5_1 extra load sub-steps per case, warm start: {}",
+        subs.join(" ")
+    );
     divan::main();
 }
 
 /// The McPherson example and one of its load sets.
 fn mcpherson(set: &str) -> (Model, LoadSetId) {
-    let (_, c) = axle::check::check_str("mcpherson.axle", include_str!("../examples/mcpherson.axle"));
+    let (_, c) =
+        axle::check::check_str("mcpherson.axle", include_str!("../examples/mcpherson.axle"));
     let m = c.model.expect("the example checks");
     let id = m.load_set_named(set).expect("stdlib set");
     (m, id)
@@ -73,19 +90,34 @@ fn corners(n: usize) -> (Model, LoadSetId) {
         }
         for w in &base.wheels {
             let mut c = w.clone();
-            (c.name, c.part, c.centre, c.contact) = (format!("{}_{k}", w.name), parts[w.part.index()], mid(w.centre), mid(w.contact));
+            (c.name, c.part, c.centre, c.contact) = (
+                format!("{}_{k}", w.name),
+                parts[w.part.index()],
+                mid(w.centre),
+                mid(w.contact),
+            );
             m.wheels.push(c);
         }
     }
     let src = &base.load_sets[set.index()];
     let channels: Vec<Channel> = (0..m.wheels.len())
-        .flat_map(|w| src.channels.iter().map(move |c| Channel { target: LoadTarget::Wheel(WheelId(w as u32)), component: c.component }))
+        .flat_map(|w| {
+            src.channels.iter().map(move |c| Channel {
+                target: LoadTarget::Wheel(WheelId(w as u32)),
+                component: c.component,
+            })
+        })
         .collect();
     let mut cases = src.cases.clone();
     for c in &mut cases {
         c.values = c.values.repeat(m.wheels.len());
     }
-    m.load_sets = vec![LoadSet { name: "corners".into(), channels, cases, form: src.form.clone() }];
+    m.load_sets = vec![LoadSet {
+        name: "corners".into(),
+        channels,
+        cases,
+        form: src.form.clone(),
+    }];
     (m, LoadSetId(0))
 }
 
@@ -95,7 +127,11 @@ fn corners(n: usize) -> (Model, LoadSetId) {
 fn table_5_1_warm(b: Bencher) {
     let (m, set) = mcpherson("thesis_table_5_1");
     let p = Problem::new(&m).expect("problem");
-    let start = solve_path(&p, set).expect("solves").pop().expect("cases").state;
+    let start = solve_path(&p, set)
+        .expect("solves")
+        .pop()
+        .expect("cases")
+        .state;
     b.bench_local(|| solve_path_from(&p, set, &start).expect("solves"));
 }
 
@@ -122,6 +158,10 @@ fn bump_sweep(b: Bencher) {
 fn corners_table_5_1_warm(b: Bencher, n: usize) {
     let (m, set) = corners(n);
     let p = Problem::new(&m).expect("problem");
-    let start = solve_path(&p, set).expect("solves").pop().expect("cases").state;
+    let start = solve_path(&p, set)
+        .expect("solves")
+        .pop()
+        .expect("cases")
+        .state;
     b.bench_local(|| solve_path_from(&p, set, &start).expect("solves"));
 }
