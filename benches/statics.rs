@@ -4,8 +4,8 @@
 //! ground. Run with `cargo bench --bench statics`.
 
 use axle::model::{Channel, LoadSet, LoadSetId, LoadTarget, Model, PartId, WheelId};
+use axle::statics::Problem;
 use axle::statics::path::{solve_path, solve_path_from};
-use axle::statics::{Problem, State};
 use divan::Bencher;
 
 fn main() {
@@ -27,6 +27,11 @@ fn main() {
     println!(
         "thesis_table_5_1 iterations per case, warm start:  {}",
         its(&warm)
+    );
+    let subs: Vec<String> = warm.iter().map(|e| e.substeps.to_string()).collect();
+    println!(
+        "thesis_table_5_1 extra load sub-steps per case, warm start: {}",
+        subs.join(" ")
     );
     divan::main();
 }

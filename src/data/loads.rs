@@ -13,6 +13,9 @@ const REQUIRED: [&str; 4] = ["step", "fx", "fy", "fz"];
 const COLUMNS_HINT: &str =
     "a loads file has the columns step, fx, fy, fz and optionally mx, my, mz, wheel, loadcase";
 
+/// A row read: step, case name, wheel, and component values.
+type LoadRow = (u64, String, WheelId, Vec<(Component, f64)>);
+
 /// Reads a loads file into a load set named `name` for `model`.
 pub fn read(text: &str, name: &str, model: &Model) -> Result<LoadSet, CsvError> {
     let t = table::parse(text)?;
@@ -35,8 +38,7 @@ pub fn read(text: &str, name: &str, model: &Model) -> Result<LoadSet, CsvError> 
     let case_col = t.column("loadcase");
     let step_col = t.column("step").unwrap_or(0);
 
-    // (step, case name, wheel, component values)
-    let mut rows: Vec<(u64, String, WheelId, Vec<(Component, f64)>)> = Vec::new();
+    let mut rows: Vec<LoadRow> = Vec::new();
     for row in &t.rows {
         if row.fields.len() != t.names.len() {
             let end = (row.end, row.end);

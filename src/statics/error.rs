@@ -125,3 +125,45 @@ impl fmt::Display for StaticsError {
 }
 
 impl std::error::Error for StaticsError {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Part, PartId};
+
+    #[test]
+    fn elements_without_origin_are_named_in_the_message_and_a_note() {
+        let mut model = Model::default();
+        model.parts.push(Part {
+            name: "added_link".into(),
+            ground: false,
+        });
+        let e = StaticsError::new(
+            StaticsErrorKind::Unrestrained,
+            vec![ElementId::Part(PartId(0))],
+            "nothing restrains it",
+        );
+        let d = e.to_diagnostic(&model);
+        assert_eq!(d.code, "E0603");
+        assert!(d.labels.is_empty());
+        assert!(d.message.contains("part `added_link`"), "{}", d.message);
+        assert!(d.notes.iter().any(|n| n.contains("added by a tool")));
+    }
+
+    #[test]
+    fn elements_with_origin_get_labels() {
+        let (_, c) = crate::check::check_str(
+            "t.axle",
+            "ground g {\n    marker o at (0, 0, 0) mm\n}\npart p {\n    marker o at (0, 0, 0) mm\n}\n",
+        );
+        let model = c.model.expect("checks");
+        let e = StaticsError::new(
+            StaticsErrorKind::NotConverged,
+            vec![ElementId::Part(PartId(1))],
+            "stuck",
+        );
+        let d = e.to_diagnostic(&model);
+        assert_eq!(d.labels.len(), 1);
+        assert!(d.labels[0].primary && d.labels[0].message.contains("part `p`"));
+    }
+}
