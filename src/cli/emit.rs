@@ -54,5 +54,5 @@ pub fn run(kind: DeckKind, file: &Path, loadcases: Option<&str>, out: Option<&Pa
             return Exit::Input;
         }
     };
-    super::write_out(out, &text)
+    super::input::emit(out.map(|p| p.as_path()), &text)
 }

@@ -22,7 +22,7 @@ pub fn run(file: &Path, out: Option<&PathBuf>) -> Exit {
                 .iter()
                 .any(|d| d.severity == Severity::Error) =>
         {
-            super::write_out(out, &src)
+            super::input::emit(out.map(|p| p.as_path()), &src)
         }
         _ => Exit::Input,
     }

@@ -91,3 +91,23 @@ pub fn emit(path: Option<&Path>, text: &str) -> Exit {
         }
     }
 }
+
+/// Solves a load set in order, each case from the previous state; a failure
+/// becomes a diagnostic naming the case, reported, and exit status 1.
+pub fn solve_reporting(
+    loaded: &Loaded,
+    problem: &crate::statics::Problem,
+    set: LoadSetId,
+) -> Result<Vec<crate::statics::Equilibrium>, Exit> {
+    let model = &loaded.model;
+    let ls = &model.load_sets[set.index()];
+    crate::statics::path::solve_path(problem, set).map_err(|e| {
+        let case = ls.cases.get(e.case).map_or("?", |c| c.name.as_str());
+        loaded.report(&[e.error.to_diagnostic(model).note(format!(
+            "in case `{case}` (step {}) of load set `{}`",
+            e.case + 1,
+            ls.name
+        ))]);
+        Exit::Input
+    })
+}

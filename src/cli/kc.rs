@@ -8,7 +8,6 @@ use crate::model::{Component, LoadForm, LoadSet, LoadSetId, Model};
 use crate::output::number::round_json;
 use crate::output::plot::{Sweep, svg};
 use crate::output::{columns, kc_table};
-use crate::statics::path::solve_path;
 use crate::statics::report::angle_warnings;
 use crate::statics::{Equilibrium, Problem, compliance, warning};
 use serde_json::{Value, json};
@@ -120,14 +119,7 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
     let set: LoadSetId = pick_set(&loaded, Some(&args.sweep)).map_err(fail)?;
     let problem = Problem::new(model).map_err(|e| fail(e.to_diagnostic(model)))?;
     let ls = &model.load_sets[set.index()];
-    let eqs = solve_path(&problem, set).map_err(|e| {
-        let case = ls.cases.get(e.case).map_or("?", |c| c.name.as_str());
-        fail(e.error.to_diagnostic(model).note(format!(
-            "at step {} (`{case}`) of `{}`",
-            e.case + 1,
-            ls.name
-        )))
-    })?;
+    let eqs = super::input::solve_reporting(&loaded, &problem, set)?;
     let names: Vec<String> = ls.cases.iter().map(|c| c.name.clone()).collect();
     let per_case: Vec<_> = eqs
         .iter()

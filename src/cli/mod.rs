@@ -204,20 +204,3 @@ pub fn read(path: &std::path::Path) -> Option<String> {
         }
     }
 }
-
-/// Writes `text` to `out`, or to stdout when no file is given.
-pub fn write_out(out: Option<&PathBuf>, text: &str) -> Exit {
-    match out {
-        Some(p) => match std::fs::write(p, text) {
-            Ok(()) => Exit::Ok,
-            Err(e) => {
-                eprintln!("error: cannot write {}: {e}", p.display());
-                Exit::Io
-            }
-        },
-        None => {
-            print!("{text}");
-            Exit::Ok
-        }
-    }
-}

@@ -6,7 +6,6 @@ use crate::diagnostic::Diagnostic;
 use crate::kc::kc_rows;
 use crate::model::LoadSetId;
 use crate::output::{kc_table, number::round_json, parts_csv, solve_table};
-use crate::statics::path::solve_path;
 use crate::statics::report::{CaseReport, angle_warnings, case_report};
 use crate::statics::{Problem, warning};
 use serde_json::json;
@@ -72,14 +71,7 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
     };
     let problem = Problem::new(model).map_err(|e| fail(e.to_diagnostic(model)))?;
     let ls = &model.load_sets[set.index()];
-    let eqs = solve_path(&problem, set).map_err(|e| {
-        let case = ls.cases.get(e.case).map_or("?", |c| c.name.as_str());
-        fail(e.error.to_diagnostic(model).note(format!(
-            "in case `{case}` (step {}) of load set `{}`",
-            e.case + 1,
-            ls.name
-        )))
-    })?;
+    let eqs = super::input::solve_reporting(&loaded, &problem, set)?;
     let reports: Vec<CaseReport> = eqs
         .iter()
         .zip(&ls.cases)

@@ -51,6 +51,26 @@ pub struct Located {
     pub note: String,
 }
 
+impl Located {
+    /// A result not yet located: no centre, unbounded uncertainty.
+    fn new(element: ElementId, name: &str, kind: &str, frame: PartId) -> Located {
+        Located {
+            element,
+            name: name.to_string(),
+            kind: kind.to_string(),
+            method: String::new(),
+            frame,
+            center: None,
+            axis: None,
+            residual: 0.0,
+            uncertainty: f64::INFINITY,
+            observable: false,
+            undetermined: None,
+            note: String::new(),
+        }
+    }
+}
+
 fn from_fit(f: Fit) -> (Vec3, Option<Vec3>, f64, f64) {
     (f.center, f.axis, f.residual, f.uncertainty)
 }
@@ -83,18 +103,13 @@ pub fn locate_all(model: &Model, steps: &[StepPoses], opt: &Options) -> Vec<Loca
         let (p1, p2) = (part_of(j.i), part_of(j.j));
         let prior = model.marker(j.i).origin();
         let base = |method: &str| Located {
-            element: ElementId::Joint(JointId(n as u32)),
-            name: j.name.clone(),
-            kind: j.kind.keyword().to_string(),
             method: method.to_string(),
-            frame: p1,
-            center: None,
-            axis: None,
-            residual: 0.0,
-            uncertainty: f64::INFINITY,
-            observable: false,
-            undetermined: None,
-            note: String::new(),
+            ..Located::new(
+                ElementId::Joint(JointId(n as u32)),
+                &j.name,
+                j.kind.keyword(),
+                p1,
+            )
         };
         if !(seen(p1) && seen(p2)) {
             // Handled below when the unmeasured part is a strut.
@@ -141,20 +156,12 @@ pub fn locate_all(model: &Model, steps: &[StepPoses], opt: &Options) -> Vec<Loca
     for (n, b) in model.bushings.iter().enumerate() {
         let (p1, p2) = (part_of(b.i), part_of(b.j));
         let prior = model.marker(b.i).origin();
-        let mut l = Located {
-            element: ElementId::Bushing(BushingId(n as u32)),
-            name: b.name.clone(),
-            kind: "bushing".into(),
-            method: String::new(),
-            frame: p1,
-            center: None,
-            axis: None,
-            residual: 0.0,
-            uncertainty: f64::INFINITY,
-            observable: false,
-            undetermined: None,
-            note: String::new(),
-        };
+        let mut l = Located::new(
+            ElementId::Bushing(BushingId(n as u32)),
+            &b.name,
+            "bushing",
+            p1,
+        );
         if !(seen(p1) && seen(p2)) {
             continue;
         }
