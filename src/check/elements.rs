@@ -6,33 +6,11 @@ use super::props::Props;
 use crate::diagnostic::Diagnostic;
 use crate::model::*;
 use crate::span::Span;
-use crate::syntax::ast::{ElementDecl, ElementKw, File, ItemKind, Value};
+use crate::syntax::ast::{ElementDecl, ElementKw, File, ItemKind};
 use crate::units::Dim;
 use std::collections::BTreeMap;
 
 const JOINT_PROPS: &[&str] = &["i", "j"];
-const BUSHING_PROPS: &[&str] = &[
-    "i",
-    "j",
-    "k",
-    "kt",
-    "k_radial",
-    "k_axial",
-    "kt_radial",
-    "kt_axial",
-    "k_x",
-    "k_y",
-    "k_z",
-    "kt_x",
-    "kt_y",
-    "kt_z",
-    "k3",
-    "kt3",
-    "offset",
-    "angle_offset",
-    "preload",
-    "torque_preload",
-];
 const SPRING_PROPS: &[&str] = &["i", "j", "k", "free_length", "preload", "law"];
 const STOP_PROPS: &[&str] = &["i", "j", "contact_length", "k", "poly", "law"];
 const WHEEL_PROPS: &[&str] = &["centre", "center", "contact"];
@@ -81,7 +59,7 @@ impl Checker {
     }
 
     /// The I and J markers, which must be on different parts.
-    fn ij(&mut self, props: &Props) -> Option<(MarkerId, MarkerId)> {
+    pub(super) fn ij(&mut self, props: &Props) -> Option<(MarkerId, MarkerId)> {
         let i = self.prop_marker(props, "i");
         let j = self.prop_marker(props, "j");
         let (i, j) = (i?, j?);
@@ -138,214 +116,6 @@ impl Checker {
             i,
             j,
         });
-    }
-
-    fn bushing(&mut self, e: &ElementDecl) {
-        let props = self.props("bushing", e, BUSHING_PROPS);
-        let ij = self.ij(&props);
-        let translational = self.axis_laws(
-            &props,
-            "k",
-            Dim::STIFFNESS,
-            Dim::LENGTH,
-            Dim::FORCE,
-            "(310, 2400, 180) N/mm",
-        );
-        let rotational = self.axis_laws(
-            &props,
-            "kt",
-            Dim::ROT_STIFFNESS,
-            Dim::ANGLE,
-            Dim::TORQUE,
-            "(4500, 1100, 1600) N*mm/deg",
-        );
-        let vec_or_zero = |c: &mut Self, key: &str, dim: Dim, ex: &str| -> Option<Val3> {
-            match props.get(key) {
-                Some(p) => c.prop_vector(p, dim, ex),
-                None => Some([Val::ZERO; 3]),
-            }
-        };
-        let k3 = vec_or_zero(self, "k3", Dim::new(-3, 1, 0), "(0, 0, 2) N/mm^3");
-        let kt3 = vec_or_zero(self, "kt3", Dim::new(1, 1, -3), "(0, 0, 2) N*mm/deg^3");
-        let offset = vec_or_zero(self, "offset", Dim::LENGTH, "(0, 0, 1.5) mm");
-        let angle_offset = vec_or_zero(self, "angle_offset", Dim::ANGLE, "(0, 0, 2) deg");
-        let preload = vec_or_zero(self, "preload", Dim::FORCE, "(0, 0, 100) N");
-        let torque_preload = vec_or_zero(self, "torque_preload", Dim::TORQUE, "(0, 0, 1000) N*mm");
-        let (Some((i, j)), Some(mut translational), Some(mut rotational)) =
-            (ij, translational, rotational)
-        else {
-            return;
-        };
-        let (
-            Some(k3),
-            Some(kt3),
-            Some(offset),
-            Some(angle_offset),
-            Some(preload),
-            Some(torque_preload),
-        ) = (k3, kt3, offset, angle_offset, preload, torque_preload)
-        else {
-            return;
-        };
-        for (laws, cubic, key) in [
-            (&mut translational, k3, "k3"),
-            (&mut rotational, kt3, "kt3"),
-        ] {
-            for (law, c) in laws.iter_mut().zip(cubic) {
-                match law {
-                    AxisLaw::Linear { k3, .. } => *k3 = c,
-                    AxisLaw::Table(_) if c.value != 0.0 => {
-                        let span = props.get(key).map_or(e.name.span, |p| p.value.span());
-                        self.problems.push(
-                            Diagnostic::error(
-                                "E0403",
-                                "a cubic term cannot be added to a table law",
-                            )
-                            .primary(span, "cubic term on an axis that has a table")
-                            .hint("put the stiffening into the table itself"),
-                        );
-                    }
-                    AxisLaw::Table(_) => {}
-                }
-            }
-        }
-        let symmetry = if props.has("k_radial") || props.has("kt_radial") {
-            Symmetry::Axisymmetric
-        } else {
-            Symmetry::General
-        };
-        let id = BushingId(self.model.bushings.len() as u32);
-        self.model
-            .origins
-            .insert(ElementId::Bushing(id), e.name.span);
-        self.model.bushings.push(Bushing {
-            name: e.name.name.clone(),
-            i,
-            j,
-            translational,
-            rotational,
-            symmetry,
-            offset,
-            angle_offset,
-            preload,
-            torque_preload,
-        });
-    }
-
-    /// The three laws of a bushing family (`k` or `kt`): from the vector, the
-    /// radial/axial shorthand or per-axis properties, each axis set exactly once.
-    #[allow(clippy::too_many_arguments)]
-    fn axis_laws(
-        &mut self,
-        props: &Props,
-        base: &str,
-        dim: Dim,
-        x: Dim,
-        y: Dim,
-        example: &str,
-    ) -> Option<[AxisLaw; 3]> {
-        let mut laws: [Option<(AxisLaw, Span, String)>; 3] = [None, None, None];
-        let mut ok = true;
-        let set = |c: &mut Self,
-                   axis: usize,
-                   law: AxisLaw,
-                   span: Span,
-                   key: &str,
-                   laws: &mut [Option<(AxisLaw, Span, String)>; 3]| {
-            if let Some((_, first, by)) = &laws[axis] {
-                c.problems.push(
-                    Diagnostic::error(
-                        "E0404",
-                        format!("the {base} along {} is given twice", ["x", "y", "z"][axis]),
-                    )
-                    .primary(span, format!("`{key}` sets it"))
-                    .secondary(*first, format!("`{by}` already set it")),
-                );
-                return false;
-            }
-            laws[axis] = Some((law, span, key.to_string()));
-            true
-        };
-        let unit = dim.boundary_unit();
-        if let Some(p) = props.get(base) {
-            match self.prop_vector(p, dim, example) {
-                Some(v) => {
-                    for (a, k) in v.iter().enumerate() {
-                        let k = self.non_negative(
-                            *k,
-                            props,
-                            &format!("{base} along {}", ["x", "y", "z"][a]),
-                            p.value.span(),
-                        );
-                        ok &= set(
-                            self,
-                            a,
-                            AxisLaw::Linear { k, k3: Val::ZERO },
-                            p.key.span,
-                            base,
-                            &mut laws,
-                        );
-                    }
-                }
-                None => ok = false,
-            }
-        }
-        for (suffix, axes) in [("radial", &[0usize, 1][..]), ("axial", &[2][..])] {
-            let key = format!("{base}_{suffix}");
-            if let Some(p) = props.get(&key) {
-                match self.prop_scalar(p, dim, &format!("1000 {unit}")) {
-                    Some(k) => {
-                        let k = self.non_negative(k, props, &key, p.value.span());
-                        for &a in axes {
-                            ok &= set(
-                                self,
-                                a,
-                                AxisLaw::Linear { k, k3: Val::ZERO },
-                                p.key.span,
-                                &key,
-                                &mut laws,
-                            );
-                        }
-                    }
-                    None => ok = false,
-                }
-            }
-        }
-        for (a, axis) in ["x", "y", "z"].iter().enumerate() {
-            let key = format!("{base}_{axis}");
-            let Some(p) = props.get(&key) else { continue };
-            let law = match &p.value {
-                Value::Table(t) => self.table(t, x, y, true).map(AxisLaw::Table),
-                _ => self.prop_scalar(p, dim, &format!("1000 {unit}")).map(|k| {
-                    let k = self.non_negative(k, props, &key, p.value.span());
-                    AxisLaw::Linear { k, k3: Val::ZERO }
-                }),
-            };
-            match law {
-                Some(l) => ok &= set(self, a, l, p.key.span, &key, &mut laws),
-                None => ok = false,
-            }
-        }
-        let missing: Vec<&str> = (0..3)
-            .filter(|&a| laws[a].is_none())
-            .map(|a| ["x", "y", "z"][a])
-            .collect();
-        if !missing.is_empty() && props.had_unknown {
-            return None;
-        }
-        if ok && !missing.is_empty() {
-            self.problems.push(
-                Diagnostic::error("E0405", format!("bushing `{}` has no {base} along {}", props.decl.name.name, missing.join(", ")))
-                    .primary(props.decl.name.span, format!("`{base}` incomplete"))
-                    .hint(format!("give all three axes, e.g. `{base} {example}`, or `{base}_radial` and `{base}_axial`")),
-            );
-            return None;
-        }
-        if !ok {
-            return None;
-        }
-        let [a, b, c] = laws;
-        Some([a?.0, b?.0, c?.0])
     }
 
     fn spring(&mut self, e: &ElementDecl) {

@@ -2,6 +2,7 @@
 //! them to internal units, builds frames, checks every element and the mobility
 //! of the mechanism. Collects every problem instead of stopping at the first.
 
+mod bushing;
 mod elements;
 mod error;
 mod eval;
