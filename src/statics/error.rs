@@ -154,7 +154,9 @@ mod tests {
     fn elements_with_origin_get_labels() {
         let (_, c) = crate::check::check_str(
             "t.axle",
-            "ground g {\n    marker o at (0, 0, 0) mm\n}\npart p {\n    marker o at (0, 0, 0) mm\n}\n",
+            // The bushing holds p: the checker rejects a free part before statics.
+            "ground g {\n    marker o at (0, 0, 0) mm\n}\npart p {\n    marker o at (0, 0, 0) mm\n}\n\
+             bushing b {\n    i g.o\n    j p.o\n    k (1, 1, 1) N/mm\n    kt (1, 1, 1) N*mm/deg\n}\n",
         );
         let model = c.model.expect("checks");
         let e = StaticsError::new(
