@@ -302,3 +302,67 @@ fn locate_cli_reports_bad_data_with_its_line() {
     ]);
     assert_eq!(code, 2);
 }
+
+/// A wishbone on two bushings (axis along x through y = 300, z = 0), loaded
+/// at its outer end: it swings about the bushing axis.
+const WISHBONE: &str = "
+ground chassis {
+    marker front at (150, 300, 0) mm
+    marker rear at (-150, 300, 0) mm
+    landmark m1 at (200, 250, 40) mm
+    landmark m2 at (-180, 260, -30) mm
+    landmark m3 at (20, 200, 80) mm
+    landmark m4 at (-60, 240, -90) mm
+}
+
+part arm {
+    marker front at (150, 300, 0) mm
+    marker rear at (-150, 300, 0) mm
+    marker tip at (0, 650, 0) mm
+    landmark m1 at (120, 380, 10) mm
+    landmark m2 at (-90, 420, -15) mm
+    landmark m3 at (30, 560, 20) mm
+    landmark m4 at (-20, 610, -25) mm
+}
+
+bushing front {
+    i chassis.front
+    j arm.front
+    k (2000, 2000, 2000) N/mm
+    kt (500, 5000, 5000) N*mm/deg
+}
+
+bushing rear {
+    i chassis.rear
+    j arm.rear
+    k (2000, 2000, 2000) N/mm
+    kt (500, 5000, 5000) N*mm/deg
+}
+
+loads swing table (arm.tip.fz N, arm.tip.fy N) {
+    c1   -60    0
+    c2   -30   20
+    c3    30  -20
+    c4    60    0
+    c5    90   10
+}
+";
+
+#[test]
+fn a_bushing_pair_is_located_as_a_pivot() {
+    let (_, c) = axle::check::check_str("wishbone.axle", WISHBONE);
+    let m = c.model.expect("the wishbone checks");
+    let csv = landmarks(&m, &["swing"], 0.05, 4);
+    let found = locate_csv(&m, &csv);
+    for name in ["front", "rear"] {
+        let l = found.iter().find(|l| l.name == name).expect("located");
+        assert!(l.method.contains("pivot"), "{}", l.method);
+        assert!(l.observable, "{}", l.note);
+        let axis = l.axis.expect("axis");
+        assert!(axis.cross(&Vec3::x()).norm() < 0.01, "axis {axis}");
+        // The centre lies on the true axis (y = 300, z = 0), at the model's x.
+        let c = l.center.expect("centre");
+        assert!((c.y - 300.0).abs() < 0.5 && c.z.abs() < 0.5, "{c}");
+        assert_eq!(l.undetermined, Some(axis));
+    }
+}

@@ -156,6 +156,34 @@ pub fn locate_all(model: &Model, steps: &[StepPoses], opt: &Options) -> Vec<Loca
     for (n, b) in model.bushings.iter().enumerate() {
         let (p1, p2) = (part_of(b.i), part_of(b.j));
         let prior = model.marker(b.i).origin();
+        // Two bushings between the same two parts (a wishbone): a pivot (§6.6 a).
+        let pair = model.bushings.iter().enumerate().any(|(m, o)| {
+            m != n && {
+                let (q1, q2) = (part_of(o.i), part_of(o.j));
+                (q1 == p1 && q2 == p2) || (q1 == p2 && q2 == p1)
+            }
+        });
+        if pair && seen(p1) && seen(p2) {
+            let rels = relative(model, steps, p1, p2);
+            let mut l = Located::new(
+                ElementId::Bushing(BushingId(n as u32)),
+                &b.name,
+                "bushing",
+                p1,
+            );
+            if let Some(f) = linear::revolute(&rels, &prior, opt.sigma) {
+                let axis = f.axis;
+                l.method = "bushing pair as a pivot: axis from the SVD (eq. 3.16)".into();
+                // The motion places the axis, not the bushings along it: each keeps
+                // its model position along the axis.
+                l.center = axis.map(|a| f.center + a * a.dot(&(prior - f.center)));
+                (l.axis, l.residual, l.uncertainty, l.undetermined) =
+                    (axis, f.residual, f.uncertainty, axis);
+                l.note = "a pair of bushings on one part acts as a pivot: the position along the axis is not determined by the motion; kept from the model".into();
+            }
+            out.push(verdict(l, &rels, opt));
+            continue;
+        }
         let mut l = Located::new(
             ElementId::Bushing(BushingId(n as u32)),
             &b.name,
