@@ -12,14 +12,19 @@ use axle::import::import_adm;
 use axle::model::{Model, PointLoad};
 use axle::statics::{Problem, State, solve};
 
+/// Every example, and `tests/data/adams/coverage.axle`, which holds the
+/// statement forms the examples do not (FIXED, JPRIM, preloads and offsets,
+/// cubic and rotational-table bushings, a tabulated spring, a linear stop,
+/// two wheels, torque loads).
 fn examples() -> Vec<(String, Model)> {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
-    let mut paths: Vec<_> = std::fs::read_dir(&root)
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut paths: Vec<_> = std::fs::read_dir(dir.join("examples"))
         .expect("examples/")
         .filter_map(|e| e.ok().map(|e| e.path()))
         .collect();
     paths.retain(|p| p.extension().is_some_and(|e| e == "axle"));
     paths.sort();
+    paths.push(dir.join("tests/data/adams/coverage.axle"));
     paths
         .iter()
         .map(|p| {

@@ -1,9 +1,8 @@
 //! `axle emit adm|acf|lcf FILE [--loadcases SET] -o OUT`.
 
 use super::Exit;
-use crate::diagnostic::render;
+use super::input::{Loaded, load_model, pick_set};
 use crate::emit;
-use crate::model::Model;
 use std::path::{Path, PathBuf};
 
 #[derive(Copy, Clone, PartialEq, Eq, clap::ValueEnum)]
@@ -13,19 +12,27 @@ pub enum DeckKind {
     Lcf,
 }
 
-/// Checks `file` and returns its model, printing diagnostics.
-pub fn load_model(file: &Path) -> Result<Model, Exit> {
-    let text = super::read(file).ok_or(Exit::Io)?;
-    let (sources, checked) = crate::check::check_str(&file.display().to_string(), &text);
-    render::to_stderr(&sources, &checked.problems.list);
-    checked.model.ok_or(Exit::Input)
+/// The set to write: the named one (an unknown name gets the did-you-mean of
+/// `solve`), else the default set, else the first.
+fn set(loaded: &Loaded, name: Option<&str>) -> Result<crate::model::LoadSetId, Exit> {
+    match name {
+        Some(_) => pick_set(loaded, name).map_err(|d| {
+            loaded.report(&[d]);
+            Exit::Input
+        }),
+        None => emit::load_set(&loaded.model, None).map_err(|e| {
+            loaded.report(&[e.to_diagnostic(&loaded.model)]);
+            Exit::Input
+        }),
+    }
 }
 
 pub fn run(kind: DeckKind, file: &Path, loadcases: Option<&str>, out: Option<&PathBuf>) -> Exit {
-    let model = match load_model(file) {
-        Ok(m) => m,
+    let loaded = match load_model(file) {
+        Ok(l) => l,
         Err(e) => return e,
     };
+    let model = &loaded.model;
     let stem = |ext: &str| -> String {
         let p = out.map(|p| p.as_path()).unwrap_or(file);
         p.with_extension(ext)
@@ -34,25 +41,32 @@ pub fn run(kind: DeckKind, file: &Path, loadcases: Option<&str>, out: Option<&Pa
             .unwrap_or_default()
     };
     let text = match kind {
-        DeckKind::Adm => emit::emit_adm(&model).map(|d| {
+        DeckKind::Adm => emit::emit_adm(model).map(|d| {
             for n in &d.notes {
                 eprintln!("note: {n}");
             }
             d.text
         }),
-        DeckKind::Acf => emit::load_set(&model, loadcases).and_then(|s| {
-            let adm = stem("adm");
-            let prefix = adm.trim_end_matches(".adm").to_string();
-            emit::emit_acf(&model, s, &adm, &prefix)
-        }),
-        DeckKind::Lcf => emit::load_set(&model, loadcases).and_then(|s| emit::emit_lcf(&model, s)),
-    };
-    let text = match text {
-        Ok(t) => t,
-        Err(e) => {
-            eprintln!("error: cannot emit {}: {e}", file.display());
-            return Exit::Input;
+        DeckKind::Acf | DeckKind::Lcf => {
+            let s = match set(&loaded, loadcases) {
+                Ok(s) => s,
+                Err(e) => return e,
+            };
+            if kind == DeckKind::Acf {
+                let adm = stem("adm");
+                let prefix = adm.trim_end_matches(".adm").to_string();
+                emit::emit_acf(model, s, &adm, &prefix)
+            } else {
+                emit::emit_lcf(model, s)
+            }
         }
     };
-    super::input::emit(out.map(|p| p.as_path()), &text)
+    match text {
+        Ok(t) => super::input::emit(out.map(|p| p.as_path()), &t),
+        Err(e) => {
+            // Labelled at the responsible element's line in the axle file.
+            loaded.report(&[e.to_diagnostic(model)]);
+            Exit::Input
+        }
+    }
 }

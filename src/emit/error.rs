@@ -1,6 +1,8 @@
 //! Why a model cannot be written as an ADAMS deck. Every variant names the
 //! element, so the user knows what to change; nothing is approximated silently.
 
+use crate::diagnostic::Diagnostic;
+use crate::model::{ElementId, Model, WheelId};
 use std::fmt;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -63,3 +65,46 @@ impl fmt::Display for EmitError {
 }
 
 impl std::error::Error for EmitError {}
+
+impl EmitError {
+    /// The model elements responsible, for source labels: a load set, or the
+    /// two wheels on one side.
+    fn elements(&self, m: &Model) -> Vec<ElementId> {
+        let wheel = |n: &str| {
+            m.wheels
+                .iter()
+                .position(|w| w.name == n)
+                .map(|k| ElementId::Wheel(WheelId(k as u32)))
+        };
+        match self {
+            EmitError::UnresolvedLoad { set, .. } | EmitError::NotAWheelLoad { set, .. } => m
+                .load_set_named(set)
+                .map(ElementId::LoadSet)
+                .into_iter()
+                .collect(),
+            EmitError::WheelSide { wheel: w, other } => {
+                wheel(w).into_iter().chain(wheel(other)).collect()
+            }
+            _ => Vec::new(),
+        }
+    }
+
+    /// The error as a diagnostic (E0910) labelled at the elements' source lines
+    /// when the model was read from a file.
+    pub fn to_diagnostic(&self, m: &Model) -> Diagnostic {
+        let mut d = Diagnostic::error("E0910", format!("cannot write the ADAMS deck: {self}"));
+        let mut first = true;
+        for e in self.elements(m) {
+            if let Some(span) = m.origins.get(e) {
+                let what = m.describe(e);
+                d = if first {
+                    d.primary(span, format!("{what} is the cause"))
+                } else {
+                    d.secondary(span, format!("{what} is involved"))
+                };
+                first = false;
+            }
+        }
+        d
+    }
+}

@@ -56,10 +56,22 @@ impl Deck {
             self.error(s, format!("needs `{key} = id`"));
             return None;
         };
-        match self.markers.get(&id).and_then(|m| m.model) {
-            Some(m) => Some(m),
+        match self.markers.get(&id).map(|m| m.model) {
+            Some(Some(m)) => Some(m),
+            Some(None) => {
+                self.error(
+                    s,
+                    format!(
+                        "{key} = {id} is a floating or auxiliary marker; axle needs a fixed one"
+                    ),
+                );
+                None
+            }
             None => {
-                self.error(s, format!("{key} = {id} is not a marker axle can use"));
+                self.error(
+                    s,
+                    format!("{key} = {id}: MARKER/{id} is not defined in the deck"),
+                );
                 None
             }
         }
@@ -136,6 +148,18 @@ pub(crate) fn build(file: FileId, text: &str) -> (Option<Model>, Vec<Diagnostic>
     };
     fn by<'a>(stmts: &'a [Statement], n: &'a str) -> impl Iterator<Item = &'a Statement> + 'a {
         stmts.iter().filter(move |s| s.name == n)
+    }
+    // Each statement kind has its own ids; ADAMS rejects a repeated one.
+    let mut seen: BTreeMap<(&str, u32), usize> = BTreeMap::new();
+    for s in &stmts {
+        if let Some(id) = s.id {
+            if let Some(first) = seen.insert((s.name.as_str(), id), s.line) {
+                d.error(
+                    s,
+                    format!("{}/{id} is already defined at line {first}", s.name),
+                );
+            }
+        }
     }
     for s in by(&stmts, "UNITS") {
         if let Some(sys) = s.word("SYSTEM") {
@@ -236,7 +260,7 @@ pub(crate) fn build(file: FileId, text: &str) -> (Option<Model>, Vec<Diagnostic>
             "REQUESTs at lines {} are outputs; axle computes its own (solve, kc) and skips them",
             skipped_requests.join(", ")
         );
-        d.problems.push(Diagnostic::warning("W0602", msg));
+        d.problems.push(Diagnostic::warning("W0902", msg));
     }
     (Some(d.model), d.problems)
 }
@@ -380,7 +404,7 @@ fn markers(d: &mut Deck, stmts: Vec<&Statement>) {
             MarkerId(d.model.markers.len() as u32 - 1)
         });
         if d.markers.contains_key(&id) {
-            d.error(s, format!("MARKER/{id} is defined twice"));
+            // Reported with the other repeated ids in `build`.
             continue;
         }
         d.markers.insert(id, MInfo { pos, rot, model });

@@ -19,6 +19,9 @@ use crate::span::{FileId, Span};
 pub struct Imported {
     pub model: Option<Model>,
     pub source: Option<String>,
+    /// The axle source printed from a deck that was read but that the checker
+    /// rejects: the user can fix it (the diagnostics point into it).
+    pub draft: Option<String>,
     pub problems: Vec<Diagnostic>,
     pub sources: SourceMap,
 }
@@ -33,9 +36,9 @@ pub(crate) fn at(
 ) -> Diagnostic {
     let msg = format!("line {line}: {}", msg.into());
     let d = if error {
-        Diagnostic::error("E0601", msg)
+        Diagnostic::error("E0901", msg)
     } else {
-        Diagnostic::warning("W0601", msg)
+        Diagnostic::warning("W0901", msg)
     };
     d.primary(
         Span {
@@ -59,6 +62,7 @@ pub fn import_adm(name: &str, text: &str) -> Imported {
         return Imported {
             model: None,
             source: None,
+            draft: None,
             problems,
             sources,
         };
@@ -83,6 +87,7 @@ pub fn import_adm(name: &str, text: &str) -> Imported {
             Imported {
                 model: Some(m),
                 source: Some(source),
+                draft: None,
                 problems,
                 sources,
             }
@@ -90,6 +95,7 @@ pub fn import_adm(name: &str, text: &str) -> Imported {
         None => Imported {
             model: None,
             source: None,
+            draft: Some(printed),
             problems,
             sources,
         },
