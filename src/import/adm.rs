@@ -442,8 +442,10 @@ fn joint(d: &mut Deck, s: &Statement) {
         // their own markers: z along x_I on I's part and along y_J on J's part.
         let mut cross = |m: MarkerId, col: usize, tag: &str| {
             let src = d.model.marker(m).clone();
-            let z: Vec3 = src.rotation.column(col).into();
-            let x: Vec3 = src.rotation.column(2).into();
+            // cos(90°) leaves 6e-17 in the axes; such noise is not a direction.
+            let clean = |v: Vec3| v.map(|c| if c.abs() < 1e-12 { 0.0 } else { c });
+            let z: Vec3 = clean(src.rotation.column(col).into());
+            let x: Vec3 = clean(src.rotation.column(2).into());
             let rot = crate::geom::frame_from_z_x(z, Some(x)).unwrap_or(src.rotation);
             d.model.markers.push(Marker {
                 name: format!("{}_{tag}", src.name),

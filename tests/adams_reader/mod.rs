@@ -304,6 +304,13 @@ pub fn check(st: &[Stmt]) -> Result<(), String> {
                 }
             }
             "SPRINGDAMPER" | "SFORCE" => two(s)?,
+            "REQUEST" => {
+                for k in ["I", "J"] {
+                    for id in s.ints(k) {
+                        marker(id)?;
+                    }
+                }
+            }
             "GFORCE" | "VFORCE" | "VTORQUE" => {
                 let f = s.ints("JFLOAT");
                 let fm = marker(*f.first().ok_or("no JFLOAT")?)?;
