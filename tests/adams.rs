@@ -6,7 +6,7 @@
 mod adams_reader;
 
 use axle::check::check_str;
-use axle::emit::{emit_acf, emit_adm, emit_lcf, load_set};
+use axle::emit::{Vertical, emit_acf, emit_adm, emit_lcf, emit_lcf_as, load_set};
 use axle::geom::{Mat3, euler_zxz, frame_from_z_x};
 use axle::import::import_adm;
 use axle::model::{Model, PointLoad};
@@ -158,6 +158,53 @@ fn imported_models_reach_the_same_equilibria() {
         let back = import(&adm(&m));
         same_equilibria(&name, &m, &back);
     }
+}
+
+/// `.lcf` in `wheel_center_height` mode: each row's whl_z is the wheel-centre z
+/// of that case's equilibrium (solved in order, as `axle solve` does), so the
+/// McPherson wheel rises with its vertical load and sits at its design height
+/// when the load is the one the spring carries at design.
+#[test]
+fn lcf_height_mode_writes_the_solved_wheel_centre_heights() {
+    let (_, m) = examples()
+        .into_iter()
+        .find(|(n, _)| n == "mcpherson")
+        .expect("mcpherson");
+    let set = load_set(&m, Some("thesis_table_5_1")).expect("set");
+    let h = axle::emit::heights::centre_heights(&m, set).expect("solves");
+    let text = emit_lcf_as(&m, set, &Vertical::CentreHeight(h.clone())).expect("lcf");
+    assert!(
+        text.contains("VERTICAL_MODE  =  'wheel_center_height'"),
+        "{text}"
+    );
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip_while(|l| !l.starts_with("{ whl_z_l"))
+        .skip(1)
+        .map(|l| {
+            l.split_whitespace()
+                .filter_map(|x| x.parse().ok())
+                .collect()
+        })
+        .collect();
+    assert_eq!(rows.len(), 13);
+    // Independently: the same set solved case by case from the previous state.
+    let p = Problem::new(&m).expect("problem");
+    let mut st = State::design(&m);
+    let wc = m.marker(m.wheels[0].centre);
+    for (k, row) in rows.iter().enumerate() {
+        st = solve(&p, &m.point_loads(set, k), &st).expect("case").state;
+        let (x, r) = st.part_pose(wc.part);
+        let z = (x + r * wc.origin()).z;
+        assert!((row[0] - z).abs() < 1e-6, "case {k}: {} vs {z}", row[0]);
+        assert_eq!(row[1], 0.0, "no right wheel");
+    }
+    // c1..c5: fz 1500..7500 N, strictly rising centre; lateral rows keep fy.
+    assert!(
+        rows[..5].windows(2).all(|w| w[1][0] > w[0][0] + 10.0),
+        "{rows:?}"
+    );
+    assert_eq!(rows[5][2], -4000.0);
 }
 
 #[test]

@@ -12,6 +12,15 @@ pub enum DeckKind {
     Lcf,
 }
 
+/// What the `.lcf` vertical columns hold.
+#[derive(Copy, Clone, PartialEq, Eq, clap::ValueEnum)]
+pub enum VerticalMode {
+    /// `wheel_vertical_force`: the wheels' fz.
+    Force,
+    /// `wheel_center_height`: the wheel-centre z at axle's equilibrium.
+    Height,
+}
+
 /// The set to write: the named one (an unknown name gets the did-you-mean of
 /// `solve`), else the default set, else the first.
 fn set(loaded: &Loaded, name: Option<&str>) -> Result<crate::model::LoadSetId, Exit> {
@@ -27,7 +36,13 @@ fn set(loaded: &Loaded, name: Option<&str>) -> Result<crate::model::LoadSetId, E
     }
 }
 
-pub fn run(kind: DeckKind, file: &Path, loadcases: Option<&str>, out: Option<&PathBuf>) -> Exit {
+pub fn run(
+    kind: DeckKind,
+    file: &Path,
+    loadcases: Option<&str>,
+    vertical: VerticalMode,
+    out: Option<&PathBuf>,
+) -> Exit {
     let loaded = match load_model(file) {
         Ok(l) => l,
         Err(e) => return e,
@@ -56,6 +71,9 @@ pub fn run(kind: DeckKind, file: &Path, loadcases: Option<&str>, out: Option<&Pa
                 let adm = stem("adm");
                 let prefix = adm.trim_end_matches(".adm").to_string();
                 emit::emit_acf(model, s, &adm, &prefix)
+            } else if vertical == VerticalMode::Height {
+                emit::heights::centre_heights(model, s)
+                    .and_then(|h| emit::emit_lcf_as(model, s, &emit::Vertical::CentreHeight(h)))
             } else {
                 emit::emit_lcf(model, s)
             }

@@ -113,6 +113,9 @@ pub enum Cmd {
         /// Load set for acf/lcf (default: the file's default set, else its first).
         #[arg(long)]
         loadcases: Option<String>,
+        /// lcf vertical columns: the wheel forces, or the wheel-centre heights axle solves for.
+        #[arg(long, value_enum, default_value = "force")]
+        vertical: emit::VerticalMode,
         /// Output file (default: stdout).
         #[arg(short, long)]
         output: Option<PathBuf>,
@@ -183,8 +186,9 @@ pub fn run(cli: Cli) -> Exit {
             kind,
             file,
             loadcases,
+            vertical,
             output,
-        } => emit::run(kind, &file, loadcases.as_deref(), output.as_ref()),
+        } => emit::run(kind, &file, loadcases.as_deref(), vertical, output.as_ref()),
         Cmd::Import {
             kind: _,
             file,

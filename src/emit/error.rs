@@ -23,6 +23,12 @@ pub enum EmitError {
     NoLoadSet,
     /// The model has no ground part.
     NoGround,
+    /// A case of the set has no equilibrium (wheel-centre heights need one).
+    NotSolved {
+        set: String,
+        case: String,
+        detail: String,
+    },
 }
 
 impl fmt::Display for EmitError {
@@ -60,6 +66,10 @@ impl fmt::Display for EmitError {
             ),
             EmitError::NoLoadSet => write!(f, "the model has no load set to write"),
             EmitError::NoGround => write!(f, "the model has no ground part"),
+            EmitError::NotSolved { set, case, detail } => write!(
+                f,
+                "load set `{set}`, case `{case}`: no equilibrium for the wheel-centre heights: {detail}"
+            ),
         }
     }
 }

@@ -1,7 +1,9 @@
 //! Model + load set → Adams/Car suspension loadcase file (`.lcf`, FILE_VERSION
-//! 6.0, the 19-column layout of thesis Annexe H and the public Adams/Car files):
-//! one row per load case, wheel forces in `wheel_vertical_force` mode, left and
-//! right columns from the model's wheels (left: centre y >= 0 at design).
+//! 6.0, the header of thesis Annexe H and the 19 columns of the public
+//! Adams/Car files): one row per load case, left and right columns from the
+//! model's wheels (left: centre y >= 0 at design). The vertical columns are the
+//! wheel forces (`wheel_vertical_force`) or the wheel-centre heights axle
+//! solves for (`wheel_center_height`).
 
 use super::error::EmitError;
 use super::writer::num;
@@ -55,7 +57,22 @@ fn wheel_of(m: &Model, set: &LoadSet, ch: &Channel) -> Result<WheelId, EmitError
     }
 }
 
+/// What the vertical columns `whl_z_l`, `whl_z_r` hold.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Vertical {
+    /// The wheels' `fz` loads, N.
+    Force,
+    /// Per case, per wheel: the wheel-centre z at axle's equilibrium, mm
+    /// ([`super::heights::centre_heights`]).
+    CentreHeight(Vec<Vec<f64>>),
+}
+
+/// The loadcase file in `wheel_vertical_force` mode.
 pub fn emit_lcf(m: &Model, set: LoadSetId) -> Result<String, EmitError> {
+    emit_lcf_as(m, set, &Vertical::Force)
+}
+
+pub fn emit_lcf_as(m: &Model, set: LoadSetId, vertical: &Vertical) -> Result<String, EmitError> {
     let ls = m.load_sets.get(set.index()).ok_or(EmitError::NoLoadSet)?;
     // Side of each wheel: 0 left, 1 right.
     let mut side_of = Vec::new();
@@ -89,11 +106,25 @@ pub fn emit_lcf(m: &Model, set: LoadSetId) -> Result<String, EmitError> {
     bar(&mut o, "UNITS");
     o.push_str("[UNITS]\n LENGTH  =  'mm'\n FORCE   =  'newton'\n ANGLE   =  'deg'\n MASS    =  'kg'\n TIME    =  'sec'\n");
     bar(&mut o, "MODE");
-    o.push_str("[MODE]\n STEERING_MODE  =  'angle'\n VERTICAL_MODE  =  'wheel_vertical_force'\n COORDINATE_SYSTEM  =  'vehicle'\n");
+    let heights = match vertical {
+        Vertical::Force => None,
+        Vertical::CentreHeight(h) => Some(h),
+    };
+    o.push_str("[MODE]\n STEERING_MODE  =  'angle'\n");
+    o.push_str(if heights.is_some() {
+        " VERTICAL_MODE  =  'wheel_center_height'\n VERTICAL_TYPE  =  'absolute'\n"
+    } else {
+        " VERTICAL_MODE  =  'wheel_vertical_force'\n"
+    });
+    o.push_str(" COORDINATE_SYSTEM  =  'vehicle'\n");
     bar(&mut o, "DATA");
     o.push_str("[DATA]\n");
     o.push_str("$ axle wheel loads at the contact point, global axes (x forward, y left, z up):\n");
-    o.push_str("$   whl_z = fz, lat = fy, brake = -fx (positive toward the rear),\n");
+    o.push_str(if heights.is_some() {
+        "$   whl_z = wheel-centre z (mm) at axle's equilibrium under the case's loads,\n$   lat = fy, brake = -fx (positive toward the rear),\n"
+    } else {
+        "$   whl_z = fz, lat = fy, brake = -fx (positive toward the rear),\n"
+    });
     o.push_str("$   align = mz, otm = mx, rollres = my; damage, drive and steer are 0.\n");
     for (w, s) in m.wheels.iter().zip(&side_of) {
         o.push_str(&format!("$ {} wheel: {}\n", ["left", "right"][*s], w.name));
@@ -101,7 +132,7 @@ pub fn emit_lcf(m: &Model, set: LoadSetId) -> Result<String, EmitError> {
     let names: Vec<&str> = ls.cases.iter().map(|c| c.name.as_str()).collect();
     o.push_str(&format!("$ rows: {}\n", names.join(" ")));
     o.push_str(&format!("{{ {} }}\n", COLUMNS.join("  ")));
-    for case in &ls.cases {
+    for (k, case) in ls.cases.iter().enumerate() {
         let mut row = [0.0f64; 19];
         for ((ch, v), side) in ls.channels.iter().zip(&case.values).zip(&targets) {
             if !v.is_finite() {
@@ -111,6 +142,8 @@ pub fn emit_lcf(m: &Model, set: LoadSetId) -> Result<String, EmitError> {
                 });
             }
             let (col, val) = match ch.component {
+                // In height mode the vertical columns are heights, set below.
+                Component::Fz if heights.is_some() => continue,
                 Component::Fz => (0, *v),
                 Component::Fy => (2, *v),
                 Component::Mz => (8, *v),
@@ -119,6 +152,18 @@ pub fn emit_lcf(m: &Model, set: LoadSetId) -> Result<String, EmitError> {
                 Component::My => (16, *v),
             };
             row[col + side] += val;
+        }
+        if let Some(h) = heights {
+            let hk = h.get(k).ok_or(EmitError::NoLoadSet)?;
+            for (w, side) in hk.iter().zip(&side_of) {
+                if !w.is_finite() {
+                    return Err(EmitError::NotFinite {
+                        element: format!("load case `{}`", case.name),
+                        what: "a wheel-centre height".into(),
+                    });
+                }
+                row[*side] = *w;
+            }
         }
         let cells: Vec<String> = row.iter().map(|v| num(*v)).collect();
         o.push_str(&format!(" {}\n", cells.join("  ")));

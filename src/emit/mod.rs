@@ -7,6 +7,7 @@ pub mod acf;
 pub mod adm;
 pub mod error;
 pub mod forces;
+pub mod heights;
 pub mod lcf;
 pub mod plan;
 pub mod writer;
@@ -14,7 +15,7 @@ pub mod writer;
 pub use acf::emit_acf;
 pub use adm::{Deck, emit_adm};
 pub use error::EmitError;
-pub use lcf::emit_lcf;
+pub use lcf::{Vertical, emit_lcf, emit_lcf_as};
 
 use crate::model::{LoadSetId, Model};
 
