@@ -207,6 +207,104 @@ fn lcf_height_mode_writes_the_solved_wheel_centre_heights() {
     assert_eq!(rows[5][2], -4000.0);
 }
 
+/// The deck's wheel-angle REQUESTs report axle's toe and camber: their F2/F3
+/// expressions, evaluated with the marker positions of each solved case (the
+/// spin-axis marker moving with its part), equal `kc::wheel_quantities`, on a
+/// left wheel (McPherson) and on both sides (coverage model), to 1e-6 deg
+/// (the spin marker is written to 10 significant digits).
+#[test]
+fn wheel_angle_requests_evaluate_to_axle_toe_and_camber() {
+    use axle::import::expr;
+    for (name, m) in examples()
+        .into_iter()
+        .filter(|(n, _)| n == "mcpherson" || n == "coverage")
+    {
+        let st = adams_reader::parse(&adm(&m)).expect("reads");
+        let part_of_view = |id: u32| -> (axle::model::PartId, axle::geom::Vec3) {
+            let mk = st
+                .iter()
+                .find(|s| s.name == "MARKER" && s.id == Some(id))
+                .expect("marker");
+            let pid = mk.ints("PART")[0];
+            let part = st
+                .iter()
+                .find(|s| s.name == "PART" && s.id == Some(pid))
+                .expect("part");
+            let q = mk.nums("QP");
+            (
+                m.part_named(part.view.as_deref().unwrap_or(""))
+                    .expect("named"),
+                axle::geom::Vec3::new(q[0], q[1], q[2]),
+            )
+        };
+        let set = load_set(&m, None).expect("set");
+        let p = Problem::new(&m).expect("problem");
+        let mut state = State::design(&m);
+        for case in 0..m.load_sets[set.index()].cases.len() {
+            state = solve(&p, &m.point_loads(set, case), &state)
+                .expect("case")
+                .state;
+            let at = |id: u32| {
+                let (part, q) = part_of_view(id);
+                let (x, r) = state.part_pose(part);
+                x + r * q
+            };
+            for w in &m.wheels {
+                let req = st
+                    .iter()
+                    .find(|s| s.view.as_deref() == Some(&format!("wheel.{}.angles", w.name)))
+                    .expect("angles request");
+                let eval = |key: &str| {
+                    // DX/DY/DZ/DM(a,b) of the solved positions, then ADAMS arithmetic.
+                    let mut e = req.values[key].clone();
+                    while let Some(k) = e
+                        .find(|c| c == 'X' || c == 'Y' || c == 'Z' || c == 'M')
+                        .filter(|k| {
+                            *k > 0 && e[..*k].ends_with('D') && e[*k + 1..].starts_with('(')
+                        })
+                    {
+                        let end = k + e[k..].find(')').expect(")");
+                        let ids: Vec<u32> = e[k + 2..end]
+                            .split(',')
+                            .map(|x| x.trim().parse().expect("id"))
+                            .collect();
+                        let d = at(ids[0]) - at(ids[1]);
+                        let v = match &e[k..=k] {
+                            "X" => d.x,
+                            "Y" => d.y,
+                            "Z" => d.z,
+                            _ => d.norm(),
+                        };
+                        e = format!("{}({v:e}){}", &e[..k - 1], &e[end + 1..]);
+                    }
+                    let (sp, vars) = (Default::default(), Default::default());
+                    let c = expr::Ctx {
+                        measure: None,
+                        x: 0.0,
+                        splines: &sp,
+                        variables: &vars,
+                    };
+                    expr::eval(&expr::parse(&e).expect("parses"), &c, 0).expect("evaluates")
+                };
+                let q = axle::kc::wheel_quantities(&m, &state, w);
+                let (toe, camber) = (eval("F2"), eval("F3"));
+                assert!(
+                    (toe - q.toe_deg).abs() < 1e-6,
+                    "{name} {} case {case}: toe {toe} vs {}",
+                    w.name,
+                    q.toe_deg
+                );
+                assert!(
+                    (camber - q.camber_deg).abs() < 1e-6,
+                    "{name} {} case {case}: camber {camber} vs {}",
+                    w.name,
+                    q.camber_deg
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn reuler_reproduces_marker_axes_including_singular_angles() {
     // Markers written by directions whose ZXZ angles are known, including
