@@ -211,7 +211,7 @@ fn lcf_height_mode_writes_the_solved_wheel_centre_heights() {
 /// expressions, evaluated with the marker positions of each solved case (the
 /// spin-axis marker moving with its part), equal `kc::wheel_quantities`, on a
 /// left wheel (McPherson) and on both sides (coverage model), to 1e-6 deg
-/// (the spin marker is written to 10 significant digits).
+/// (the spin marker is written to 12 significant digits).
 #[test]
 fn wheel_angle_requests_evaluate_to_axle_toe_and_camber() {
     use axle::import::expr;

@@ -136,7 +136,9 @@ impl Plan {
         let mut spin = Vec::new();
         for w in &m.wheels {
             let c = m.marker(w.centre);
-            let s: Vec3 = c.rotation.column(2).into();
+            // cos(90°) leaves 6e-17 in an axis; it would print as a stray 1E-14 mm.
+            let s: Vec3 =
+                Vec3::from(c.rotation.column(2)).map(|v| if v.abs() < 1e-12 { 0.0 } else { v });
             spin.push(add(
                 &mut aux,
                 c.part,

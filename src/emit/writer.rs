@@ -8,17 +8,18 @@ use std::fmt::Write;
 /// Longest line written; Adams/Solver (FORTRAN) reads 80-column lines.
 pub const MAX_LINE: usize = 80;
 
-/// A real number with 10 significant digits: plain when that is short
-/// (`294.7`, `-0.015`), else Fortran exponent form (`5.729577951E+05`).
-/// Ten digits keep emitted decks stable under last-bit float noise while
-/// carrying far more precision than any suspension datum.
+/// A real number with 12 significant digits: plain when that is short
+/// (`294.7`, `-0.015`), else Fortran exponent form (`5.72957795131E+05`).
+/// Twelve digits drop last-bit float noise (`0.1 + 0.2` is `0.3`) yet carry a
+/// degree-based stiffness through radians and back: 4500 N*mm/deg is written
+/// `257831.007809` and reads back as 4500 to the 12 digits axle prints.
 pub fn num(v: f64) -> String {
     if !v.is_finite() {
         // Callers check finiteness first (EmitError::NotFinite); this keeps the
         // function total.
         return "0".into();
     }
-    let sci = format!("{v:.9e}");
+    let sci = format!("{v:.11e}");
     let rounded: f64 = sci.parse().unwrap_or(v);
     if rounded == 0.0 {
         return "0".into();
@@ -26,7 +27,7 @@ pub fn num(v: f64) -> String {
     let exp = rounded.abs().log10().floor() as i32;
     if (-4..10).contains(&exp) {
         let plain = format!("{rounded}");
-        if plain.len() <= 16 {
+        if plain.len() <= 18 {
             return plain;
         }
     }
@@ -193,7 +194,9 @@ mod tests {
         assert_eq!(num(-0.0), "0");
         assert_eq!(num(294.7), "294.7");
         assert_eq!(num(0.1 + 0.2), "0.3");
-        assert_eq!(num(10000.0_f64.to_degrees()), "572957.7951");
+        assert_eq!(num(10000.0_f64.to_degrees()), "572957.795131");
+        assert_eq!(num(4500.0_f64.to_degrees()), "257831.007809");
+        assert_eq!(num(4000.0_f64.to_degrees()), "229183.118052");
         assert_eq!(num(1.0e-6), "1E-06");
         assert_eq!(num(-2.5e12), "-2.5E+12");
         assert_eq!(num(f64::NAN), "0");
