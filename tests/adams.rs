@@ -257,11 +257,11 @@ fn wheel_angle_requests_evaluate_to_axle_toe_and_camber() {
                 let eval = |key: &str| {
                     // DX/DY/DZ/DM(a,b) of the solved positions, then ADAMS arithmetic.
                     let mut e = req.values[key].clone();
-                    while let Some(k) = e
-                        .find(|c| c == 'X' || c == 'Y' || c == 'Z' || c == 'M')
-                        .filter(|k| {
-                            *k > 0 && e[..*k].ends_with('D') && e[*k + 1..].starts_with('(')
-                        })
+                    while let Some(k) = ["DX(", "DY(", "DZ(", "DM("]
+                        .iter()
+                        .filter_map(|p| e.find(p))
+                        .min()
+                        .map(|k| k + 1)
                     {
                         let end = k + e[k..].find(')').expect(")");
                         let ids: Vec<u32> = e[k + 2..end]

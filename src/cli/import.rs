@@ -27,13 +27,13 @@ pub fn run(file: &Path, out: Option<&PathBuf>) -> Exit {
         _ => {
             // The deck was read but the model it describes does not check: keep
             // the source the diagnostics point into, so the user can fix it.
-            if let (Some(draft), Some(path)) = (&imported.draft, out) {
-                if super::input::emit(Some(path), draft) == Exit::Ok {
-                    eprintln!(
-                        "note: the axle source read from the deck, with the errors above, was written to {}",
-                        path.display()
-                    );
-                }
+            if let (Some(draft), Some(path)) = (&imported.draft, out)
+                && super::input::emit(Some(path), draft) == Exit::Ok
+            {
+                eprintln!(
+                    "note: the axle source read from the deck, with the errors above, was written to {}",
+                    path.display()
+                );
             }
             Exit::Input
         }

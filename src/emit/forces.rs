@@ -45,7 +45,10 @@ pub fn spline_points(element: &str, t: &Table) -> Result<Vec<(f64, f64)>, EmitEr
     let mut p = t.points.clone();
     let flat: Vec<f64> = p.iter().flat_map(|q| [q.0, q.1]).collect();
     finite(element, "a table point", &flat)?;
-    if p.len() < 2 || p.windows(2).any(|w| !(w[1].0 > w[0].0)) {
+    if p.len() < 2
+        || p.windows(2)
+            .any(|w| w[1].0.partial_cmp(&w[0].0) != Some(std::cmp::Ordering::Greater))
+    {
         return Err(EmitError::BadTable {
             element: element.into(),
             detail: "x must increase through at least 2 points".into(),

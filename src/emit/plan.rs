@@ -281,13 +281,13 @@ impl Plan {
         for g in &self.loads {
             let pl = pls.iter().find(|l| l.marker == g.marker);
             if let Some((_, v)) = g.vforce {
-                for k in 0..3 {
-                    out.push((v[k], pl.map_or(0.0, |l| l.force[k])));
+                for (k, id) in v.iter().enumerate() {
+                    out.push((*id, pl.map_or(0.0, |l| l.force[k])));
                 }
             }
             if let Some((_, v)) = g.vtorque {
-                for k in 0..3 {
-                    out.push((v[k], pl.map_or(0.0, |l| l.torque[k])));
+                for (k, id) in v.iter().enumerate() {
+                    out.push((*id, pl.map_or(0.0, |l| l.torque[k])));
                 }
             }
         }

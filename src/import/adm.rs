@@ -152,13 +152,13 @@ pub(crate) fn build(file: FileId, text: &str) -> (Option<Model>, Vec<Diagnostic>
     // Each statement kind has its own ids; ADAMS rejects a repeated one.
     let mut seen: BTreeMap<(&str, u32), usize> = BTreeMap::new();
     for s in &stmts {
-        if let Some(id) = s.id {
-            if let Some(first) = seen.insert((s.name.as_str(), id), s.line) {
-                d.error(
-                    s,
-                    format!("{}/{id} is already defined at line {first}", s.name),
-                );
-            }
+        if let Some(id) = s.id
+            && let Some(first) = seen.insert((s.name.as_str(), id), s.line)
+        {
+            d.error(
+                s,
+                format!("{}/{id} is already defined at line {first}", s.name),
+            );
         }
     }
     for s in by(&stmts, "UNITS") {
@@ -248,10 +248,10 @@ pub(crate) fn build(file: FileId, text: &str) -> (Option<Model>, Vec<Diagnostic>
     // Loads at a wheel's contact marker are that wheel's loads.
     for set in &mut d.model.load_sets {
         for ch in &mut set.channels {
-            if let LoadTarget::Marker(m) = ch.target {
-                if let Some(w) = d.model.wheels.iter().position(|w| w.contact == m) {
-                    ch.target = LoadTarget::Wheel(WheelId(w as u32));
-                }
+            if let LoadTarget::Marker(m) = ch.target
+                && let Some(w) = d.model.wheels.iter().position(|w| w.contact == m)
+            {
+                ch.target = LoadTarget::Wheel(WheelId(w as u32));
             }
         }
     }

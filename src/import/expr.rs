@@ -195,10 +195,10 @@ fn as_measure(name: &str, args: &[Expr]) -> Option<Measure> {
 pub fn measures(e: &Expr, out: &mut Vec<Measure>) {
     match e {
         Expr::Call(n, a) => {
-            if let Some(m) = as_measure(n, a) {
-                if !out.contains(&m) {
-                    out.push(m);
-                }
+            if let Some(m) = as_measure(n, a)
+                && !out.contains(&m)
+            {
+                out.push(m);
             }
             a.iter().for_each(|x| measures(x, out));
         }

@@ -128,18 +128,19 @@ pub fn number(s: &str) -> Option<(usize, f64, bool)> {
     Some((i, if deg { v.to_radians() } else { v }, deg))
 }
 
+/// A statement being collected: head line, span, view name, text pieces.
+type Pending = Option<(usize, (usize, usize), Option<String>, Vec<String>)>;
+
 /// Splits the dataset into statements; errors name the line.
 pub fn read(text: &str) -> (Option<String>, Vec<Statement>, Vec<ReadError>) {
     let mut title = None;
     let mut stmts = Vec::new();
     let mut errors = Vec::new();
     // (head line, span, pieces) of the statement being collected.
-    let mut cur: Option<(usize, (usize, usize), Option<String>, Vec<String>)> = None;
+    let mut cur: Pending = None;
     let mut view: Option<String> = None;
     let mut offset = 0;
-    let flush = |cur: &mut Option<(usize, (usize, usize), Option<String>, Vec<String>)>,
-                 stmts: &mut Vec<Statement>,
-                 errors: &mut Vec<ReadError>| {
+    let flush = |cur: &mut Pending, stmts: &mut Vec<Statement>, errors: &mut Vec<ReadError>| {
         if let Some((line, span, vn, pieces)) = cur.take() {
             match parse_statement(&pieces) {
                 Ok((name, id, args)) => stmts.push(Statement {

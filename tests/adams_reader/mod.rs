@@ -214,10 +214,10 @@ fn calls(e: &str) -> Vec<(String, Vec<i64>)> {
 pub fn check(st: &[Stmt]) -> Result<(), String> {
     let mut ids: BTreeMap<(&str, u32), &Stmt> = BTreeMap::new();
     for s in st {
-        if let Some(id) = s.id {
-            if ids.insert((s.name.as_str(), id), s).is_some() {
-                return Err(format!("{}/{id} defined twice", s.name));
-            }
+        if let Some(id) = s.id
+            && ids.insert((s.name.as_str(), id), s).is_some()
+        {
+            return Err(format!("{}/{id} defined twice", s.name));
         }
         if s.view.is_none() && !matches!(s.name.as_str(), "UNITS" | "OUTPUT" | "RESULTS") {
             return Err(format!("{}/{:?} has no adams_view_name", s.name, s.id));
@@ -258,13 +258,13 @@ pub fn check(st: &[Stmt]) -> Result<(), String> {
         if !s.flags.contains(&"FLOATING".into()) && s.nums("QP").len() != 3 {
             return Err(format!("MARKER/{:?} needs QP with 3 values", s.id));
         }
-        if let Some(r) = s.values.get("REULER") {
-            if r.split(',').count() != 3 || !r.split(',').all(|a| a.trim().ends_with('D')) {
-                return Err(format!(
-                    "MARKER/{:?}: REULER must be 3 angles in degrees",
-                    s.id
-                ));
-            }
+        if let Some(r) = s.values.get("REULER")
+            && (r.split(',').count() != 3 || !r.split(',').all(|a| a.trim().ends_with('D')))
+        {
+            return Err(format!(
+                "MARKER/{:?}: REULER must be 3 angles in degrees",
+                s.id
+            ));
         }
     }
     for s in st {
