@@ -176,6 +176,12 @@ pub fn emit_adm(m: &Model) -> Result<Deck, EmitError> {
     {
         notes.push("tables are written as SPLINEs evaluated with AKISPL (Akima): ADAMS matches axle at the table points and outside them, and may differ slightly between points".into());
     }
+    if !m.landmarks.is_empty() {
+        notes.push(format!(
+            "{} landmarks are measurement points, not mechanics: they are not written",
+            m.landmarks.len()
+        ));
+    }
     loads(&mut o, m, &plan);
     requests(&mut o, m, &plan);
     section(&mut o, "ANALYSIS SETTINGS");
