@@ -457,6 +457,47 @@ fn public_adams_decks_are_read_with_every_skip_reported() {
     assert!(has(&msgs, "REQUESTs at lines 19, 56"), "{msgs:?}");
 }
 
+/// The thesis' Annexe I bushing (methods.md §10.3): one SPLINE per direction
+/// holding the restoring force on I (`Y = -K X`, torsional X in radians) and a
+/// GFORCE `FX = AKISPL(DX(I,J,J), 0, id)`. Imported, the arm deflects by the
+/// thesis' equivalent stiffnesses: 14 052.52 N/mm along x (70 262.6 N at
+/// 5 mm) and 63 314 N·mm per 15° about z.
+#[test]
+fn thesis_annexe_i_spline_bushing_imports_with_its_stiffness() {
+    let text = include_str!("data/adams/annexe_i_bushing.adm");
+    let imp = import_adm("annexe_i_bushing.adm", text);
+    let src = imp.source.clone().expect("imports");
+    assert!(src.starts_with("model annexe_i_bushing"), "{src}");
+    assert!(
+        src.contains(
+            "k_x table (mm, N) [(-10, -140525), (-5, -70262.6), (0, 0), (5, 70262.6), (10, 140525)]"
+        ),
+        "{src}"
+    );
+    let m = imp.model.expect("model");
+    let arm = m.part_named("arm").expect("arm");
+    let i = m.marker_named(arm, "I_ref").expect("I");
+    let p = Problem::new(&m).expect("problem");
+    let load = |force: [f64; 3], torque: [f64; 3]| {
+        let l = PointLoad {
+            marker: i,
+            force: force.into(),
+            torque: torque.into(),
+        };
+        solve(&p, &[l], &State::design(&m))
+            .expect("solves")
+            .state
+            .part_pose(arm)
+    };
+    // 1405.252 N on the 14 052.52 N/mm segment: 0.1 mm.
+    let (x, _) = load([1405.252, 0.0, 0.0], [0.0; 3]);
+    assert!((x.x - 0.1).abs() < 1e-9 && x.y.abs() < 1e-9, "{x:?}");
+    // 6331.4 N*mm about z on 63 314 N*mm per 0.261799 rad: 0.0261799 rad.
+    let (_, r) = load([0.0; 3], [0.0, 0.0, 6331.4]);
+    let az = r[(1, 0)].atan2(r[(0, 0)]);
+    assert!((az - 0.0261799).abs() < 1e-9, "{az}");
+}
+
 #[test]
 fn a_malformed_line_gets_a_diagnostic_with_its_line() {
     let imp = import_adm(

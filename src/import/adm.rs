@@ -119,16 +119,24 @@ fn unit_factor(s: &Statement, key: &str, table: &[(&str, f64)]) -> Result<f64, S
     }
 }
 
-pub(crate) fn build(file: FileId, text: &str) -> (Option<Model>, Vec<Diagnostic>) {
+/// The model name: the word after the title's last `:` (`ADAMS/View model
+/// name: NAME`, `axle model: NAME`), else the deck's file stem, since a
+/// free-text title is no name.
+fn model_name(title: Option<&str>, file_stem: &str) -> String {
+    let word = title
+        .map(|t| t.rsplit(':').next().unwrap_or(t).trim())
+        .filter(|w| {
+            !w.is_empty()
+                && w.chars()
+                    .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+        });
+    let stem = file_stem.replace(|c: char| !(c.is_ascii_alphanumeric() || c == '_'), "_");
+    ident(Some(word.unwrap_or(&stem)), "imported".into())
+}
+
+pub(crate) fn build(file: FileId, file_stem: &str, text: &str) -> (Option<Model>, Vec<Diagnostic>) {
     let (title, stmts, errors) = reader::read(text);
-    let name = ident(
-        title
-            .as_deref()
-            .map(|t| t.rsplit(':').next().unwrap_or(t))
-            .map(|t| t.trim().replace(' ', "_"))
-            .as_deref(),
-        "imported".into(),
-    );
+    let name = model_name(title.as_deref(), file_stem);
     let mut d = Deck {
         file,
         problems: errors

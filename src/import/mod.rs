@@ -54,7 +54,10 @@ pub(crate) fn at(
 pub fn import_adm(name: &str, text: &str) -> Imported {
     let mut sources = SourceMap::new();
     let file = sources.add(name, text);
-    let (model, mut problems) = adm::build(file, text);
+    let stem = std::path::Path::new(name)
+        .file_stem()
+        .map_or("imported".into(), |s| s.to_string_lossy().into_owned());
+    let (model, mut problems) = adm::build(file, &stem, text);
     let has_error = problems
         .iter()
         .any(|d| d.severity == crate::diagnostic::Severity::Error);
