@@ -23,7 +23,13 @@ pub fn emit_acf(
     o.push('\n');
     // Tolerances: ERROR on the state change, IMBALANCE on forces (N); TLIMIT (mm)
     // and ALIMIT cap each Newton step, which keeps stops and tables stable.
-    o.push_str("EQUILIBRIUM/MAXIT=100, ERROR=1.0E-06, IMBALANCE=1.0E-04, TLIMIT=5, ALIMIT=5D\n");
+    o.push_str(&format!(
+        "EQUILIBRIUM/MAXIT=100, ERROR={}, IMBALANCE={}, TLIMIT={}, ALIMIT={}D\n",
+        num(1.0e-6),
+        num(1.0e-4),
+        num(5.0),
+        num(5.0)
+    ));
     let Some(ls) = m.load_sets.get(set.index()) else {
         return Err(EmitError::NoLoadSet);
     };
