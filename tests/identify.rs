@@ -274,7 +274,7 @@ fn mcpherson_lsq_intervals_cover_the_truth() {
                 p.value.map(b),
                 p.interval.map(|(a, c)| (b(a), b(c)))
             );
-            if let Some((lo, hi)) = p.interval {
+            if let Some((_, hi)) = p.interval {
                 identified += 1;
                 // Marginal 95 % intervals of ~6 parameters all cover the truth
                 // only ~75 % of the time; the check widens them to 99.9 %
@@ -349,4 +349,165 @@ fn half_k_x_of_bushing_a_found_by_all_three_methods() {
     let (_, p) = param(&r, "A.k_x");
     let (lo, hi) = p.interval.expect("lsq identifies A.k_x");
     assert!(lo <= 7300.0 && 7300.0 <= hi && hi < 13875.0, "lsq {p:?}");
+}
+
+/// The polylines of an SVG with more than two points (legend samples have
+/// two), as (stroke colour, pixel points), in document order.
+fn polylines(svg: &str) -> Vec<(String, Vec<(f64, f64)>)> {
+    let attr = |tag: &str, name: &str| -> Option<String> {
+        let i = tag.find(&format!(" {name}=\""))? + name.len() + 3;
+        Some(tag[i..i + tag[i..].find('"')?].to_string())
+    };
+    svg.split("<polyline")
+        .skip(1)
+        .filter_map(|t| {
+            let tag = &t[..t.find("/>")?];
+            let pts: Vec<(f64, f64)> = attr(tag, "points")?
+                .split_whitespace()
+                .filter_map(|p| {
+                    let (x, y) = p.split_once(',')?;
+                    Some((x.parse().ok()?, y.parse().ok()?))
+                })
+                .collect();
+            if pts.len() > 2 {
+                Some((attr(tag, "stroke")?, pts))
+            } else {
+                None
+            }
+        })
+        .collect()
+}
+
+/// `axle identify --report DIR` (figure 5.9): from landmarks of the truth
+/// along Table 5-1 and a model whose bushings A and B all start at the
+/// thesis' 10000, the iterative method's report has one plot per swept load
+/// direction with the measured, initial and identified curves, and on every
+/// panel the identified curve lies far closer to the measured one than the
+/// initial curve does (compared in the SVG's own pixel coordinates).
+#[test]
+fn cli_report_plots_measured_initial_and_identified_curves() {
+    let truth = mcpherson();
+    let id = truth.load_set_named("thesis_table_5_1").expect("set");
+    let csv = axle::measure::synthetic::landmarks_csv(&truth, id, 0.0, 1).expect("solves");
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("identify_report");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("tmp dir");
+    let lm = dir.join("landmarks.csv");
+    std::fs::write(&lm, csv).expect("write landmarks");
+    let out_model = dir.join("identified.axle");
+    let report = dir.join("report");
+    let mut args: Vec<String> = [
+        "identify",
+        "examples/mcpherson.axle",
+        "--landmarks",
+        lm.to_str().expect("utf-8"),
+        "--method",
+        "iterative",
+        "--initial",
+        "10000",
+        "--format",
+        "json",
+        "-o",
+        out_model.to_str().expect("utf-8"),
+        "--report",
+        report.to_str().expect("utf-8"),
+        "--unknown",
+    ]
+    .map(String::from)
+    .to_vec();
+    args.extend(ab_unknowns(&truth).iter().flat_map(|u| u.names.clone()));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_axle"))
+        .args(&args)
+        .output()
+        .expect("runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(json["method"], "iterative");
+    let ax = &json["parameters"]["A.k_x"];
+    assert_eq!(ax["initial"], 10000.0);
+    assert!(rel(ax["value"].as_f64().expect("A.k_x value"), 13875.0) < 0.05);
+    // -o writes the identified model, which checks and carries the value.
+    let written = model(&std::fs::read_to_string(&out_model).expect("-o written"));
+    let u = identify::select_unknowns(&written, &["A.k_x".to_string()]).expect("A.k_x");
+    assert!(rel(axle::units::to_boundary(u[0].initial, u[0].dim), 13875.0) < 0.05);
+
+    let mut files: Vec<String> = std::fs::read_dir(&report)
+        .expect("report dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    assert_eq!(
+        files,
+        [
+            "toe_camber_lateral.svg",
+            "toe_camber_longitudinal.svg",
+            "toe_camber_vertical.svg"
+        ]
+    );
+    // One note per plot with the RMS toe / camber differences (deg) to the
+    // measured curve: "... initial T / C deg, identified T / C deg".
+    let notes: Vec<&str> = json["notes"]
+        .as_array()
+        .expect("notes")
+        .iter()
+        .filter_map(|n| n.as_str().filter(|s| s.starts_with("report ")))
+        .collect();
+    assert_eq!(notes.len(), 3, "{notes:?}");
+    for n in &notes {
+        let rms = |key: &str| -> [f64; 2] {
+            let tail = &n[n.find(key).expect(key) + key.len()..];
+            let mut w = tail.split_whitespace();
+            let t = w.next().expect("toe").parse().expect("number");
+            assert_eq!(w.next(), Some("/"));
+            let c = w.next().expect("camber").trim_end_matches(',');
+            [t, c.parse().expect("number")]
+        };
+        let (init, ident) = (rms("initial "), rms("identified "));
+        eprintln!("{n}");
+        // Noise-free data: the identified model is within 0.02 deg everywhere,
+        // and at least ten times closer than the all-10000 start.
+        for k in 0..2 {
+            assert!(ident[k] < 0.02 && ident[k] < 0.1 * init[k], "{n}");
+        }
+    }
+    // Colours of the three series, as plot.rs draws them.
+    let (measured, initial, identified) = ("#005AB4", "#C83C14", "#1E8C3C");
+    for f in &files {
+        let svg = std::fs::read_to_string(report.join(f)).expect("svg");
+        for label in ["measured", "initial model", "identified model", "Toe angle"] {
+            assert!(svg.contains(label), "{f}: no {label}");
+        }
+        let lines = polylines(&svg);
+        // Two panels (toe, camber), each measured, initial, identified.
+        let colours: Vec<&str> = lines.iter().map(|(c, _)| c.as_str()).collect();
+        assert_eq!(
+            colours,
+            [measured, initial, identified, measured, initial, identified],
+            "{f}"
+        );
+        // Five steps per direction of Table 5-1 (the 4500 N vertical step in each).
+        for (_, pts) in &lines {
+            assert_eq!(pts.len(), 5, "{f}");
+        }
+        for panel in lines.chunks(3) {
+            let dist = |k: usize| -> f64 {
+                panel[0]
+                    .1
+                    .iter()
+                    .zip(&panel[k].1)
+                    .map(|(a, b)| {
+                        assert_eq!(a.0, b.0, "same x (load) for every series");
+                        (a.1 - b.1).abs()
+                    })
+                    .fold(0.0, f64::max)
+            };
+            let (d_init, d_ident) = (dist(1), dist(2));
+            eprintln!("{f}: largest pixel distance initial {d_init}, identified {d_ident}");
+            assert!(
+                d_ident < 0.1 * d_init,
+                "{f}: identified {d_ident} px vs initial {d_init} px"
+            );
+        }
+    }
 }
