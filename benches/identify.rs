@@ -30,6 +30,35 @@ fn main() {
         u.len(),
         r.iterations
     );
+    // Newton iterations of one pass (13 warm-started solves) early and late:
+    // the iterative method's cost is 22 passes of the statics engine.
+    let pass = |a: &[f64], b: &[f64]| {
+        let (mut ma, mut mb) = (init.clone(), init.clone());
+        for ((x, va), vb) in u.iter().zip(a).zip(b) {
+            x.set(&mut ma, *va);
+            x.set(&mut mb, *vb);
+        }
+        let (pa, pb) = (
+            statics::Problem::new(&ma).expect("problem"),
+            statics::Problem::new(&mb).expect("problem"),
+        );
+        let mut prev = State::design(&ma);
+        let mut total = 0;
+        for s in &data.steps {
+            let ea = statics::solve(&pa, &s.loads, &prev).expect("solves");
+            let eb = statics::solve(&pb, &s.loads, &ea.state).expect("solves");
+            total += eb.iterations;
+            prev = ea.state;
+        }
+        total
+    };
+    let h = &r.history;
+    println!(
+        "iterative: Newton iterations per pass of 13 warm solves: pass 2 {}, pass {} {}",
+        pass(&h[1].values, &h[2].values),
+        h.len() - 1,
+        pass(&h[h.len() - 2].values, &h[h.len() - 1].values)
+    );
     let (init, u, data) = lsq_case();
     let r = identify::lsq::identify(&init, &u, &data, Default::default()).expect("lsq");
     let ok = r.params.iter().filter(|p| p.identifiable).count();

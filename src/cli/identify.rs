@@ -417,6 +417,26 @@ pub fn to_table(r: &Identified) -> String {
             );
         }
     }
+    if r.history.len() > 1 {
+        let _ = writeln!(o, "iteration history (boundary units):");
+        let w: Vec<usize> = r.unknowns.iter().map(|u| u.names[0].len().max(9)).collect();
+        let _ = write!(o, "{:>4}", "it");
+        for (u, w) in r.unknowns.iter().zip(&w) {
+            let _ = write!(o, " {:>w$}", u.names[0]);
+        }
+        let _ = writeln!(o);
+        for h in &r.history {
+            let _ = write!(o, "{:>4}", h.iteration);
+            for ((u, v), w) in r.unknowns.iter().zip(&h.values).zip(&w) {
+                let _ = write!(
+                    o,
+                    " {:>w$}",
+                    fmt_num(identify::round_sig(to_boundary(*v, u.dim), 5))
+                );
+            }
+            let _ = writeln!(o);
+        }
+    }
     let _ = writeln!(o, "rank {}, iterations {}", r.rank, r.iterations);
     if !r.singular_values.is_empty() {
         let s: Vec<String> = r
