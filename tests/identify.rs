@@ -566,3 +566,25 @@ fn lsq_joint_coordinate_and_stiffnesses_together() {
     // Resolved to a fraction of the 2 mm offset, and away from the model's value.
     assert!(hi - lo < 0.2 && lo > z0 + 1.5, "L7.z interval [{lo}, {hi}]");
 }
+
+/// The table a user reads, with the iteration history (snapshot): three
+/// stiffnesses from 10000 on noise-free landmarks along Table 5-1.
+#[test]
+fn cli_iterative_table_with_history_snapshot() {
+    let truth = mcpherson();
+    let id = truth.load_set_named("thesis_table_5_1").expect("set");
+    let csv = axle::measure::synthetic::landmarks_csv(&truth, id, 0.0, 1).expect("solves");
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("identify_table");
+    std::fs::create_dir_all(&dir).expect("tmp dir");
+    let lm = dir.join("landmarks.csv");
+    std::fs::write(&lm, csv).expect("write landmarks");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_axle"))
+        .args(["identify", "examples/mcpherson.axle", "--landmarks"])
+        .arg(&lm)
+        .args(["--method", "iterative", "--initial", "10000"])
+        .args(["--unknown", "A.k_x", "A.k_z", "B.k_x"])
+        .output()
+        .expect("runs");
+    assert!(out.status.success());
+    insta::assert_snapshot!(String::from_utf8_lossy(&out.stdout));
+}
