@@ -588,3 +588,59 @@ fn cli_iterative_table_with_history_snapshot() {
     assert!(out.status.success());
     insta::assert_snapshot!(String::from_utf8_lossy(&out.stdout));
 }
+
+/// K&C channels join the landmarks in least squares, weighted by their noise:
+/// toe, camber (σ 0.01 deg) and wheel centre (σ 0.05 mm) of the truth, with
+/// that noise, added to the σ = 0.05 mm landmarks. More data of the same
+/// quality: every interval narrows and still covers the truth.
+#[test]
+fn lsq_kc_channels_narrow_the_intervals() {
+    let truth = mcpherson();
+    let set = truth.load_set_named("thesis_table_5_1").expect("set");
+    let eqs = statics::solve_set(&truth, set).expect("solves");
+    let mut noise = axle::measure::synthetic::Noise::new(11);
+    let kc: Vec<(usize, identify::KcObservation)> = eqs
+        .iter()
+        .enumerate()
+        .map(|(k, e)| {
+            let q = axle::kc::wheel_quantities(&truth, &e.state, &truth.wheels[0]);
+            let c = q.center.map(|v| v + 0.05 * noise.normal());
+            let obs = identify::KcObservation {
+                toe_deg: q.toe_deg + 0.01 * noise.normal(),
+                camber_deg: q.camber_deg + 0.01 * noise.normal(),
+                wc: axle::geom::Vec3::new(c[0], c[1], c[2]),
+            };
+            (k + 1, obs)
+        })
+        .collect();
+    let plain = measured_in_model_frame(&truth, "thesis_table_5_1", 0.05, 12);
+    let mut with_kc = plain.clone();
+    identify::measured::attach_kc(&mut with_kc, &kc);
+    assert!(with_kc.steps.iter().all(|s| s.kc.is_some()));
+    let names: Vec<String> = ["A.k_x", "A.kt_z", "B.k_x"].map(String::from).to_vec();
+    let u = identify::select_unknowns(&truth, &names).expect("unknowns");
+    let mut init = truth.clone();
+    for x in &u {
+        x.set(&mut init, x.initial * 1.3);
+    }
+    let u0 = identify::select_unknowns(&init, &names).expect("unknowns");
+    let a = identify::lsq::identify(&init, &u0, &plain, Default::default()).expect("lsq");
+    let b = identify::lsq::identify(&init, &u0, &with_kc, Default::default()).expect("lsq");
+    assert!(b.notes[0].contains(&format!("{} independent", 6 * 4 * 13 + 5 * 13)));
+    for (x, truth_x) in u0.iter().zip(&u) {
+        let name = &x.names[0];
+        let (_, pa) = param(&a, name);
+        let (_, pb) = param(&b, name);
+        let (la, ha) = pa.interval.expect("landmarks alone identify it");
+        let (lb, hb) = pb.interval.expect("with K&C");
+        eprintln!(
+            "{name}: truth {} landmarks [{la}, {ha}], with K&C [{lb}, {hb}]",
+            truth_x.initial
+        );
+        assert!(hb / lb < ha / la, "{name} did not narrow");
+        assert!(
+            lb <= truth_x.initial && truth_x.initial <= hb,
+            "{name}: {pb:?}"
+        );
+    }
+}
