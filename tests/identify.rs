@@ -644,3 +644,30 @@ fn lsq_kc_channels_narrow_the_intervals() {
         );
     }
 }
+
+/// Unknowns the file marks: with no `--unknown`, a parameter declared
+/// `unknown` is the one thing identified (not the default set), and least
+/// squares finds the truth's value for it. Here A's radial stiffness is a
+/// parameter started at the thesis' 10000.
+#[test]
+fn parameter_marked_unknown_in_the_file_is_identified() {
+    let src = include_str!("../examples/mcpherson.axle");
+    let declared = src
+        .replacen(
+            "import mcpherson_loads\n",
+            "import mcpherson_loads\nparam kA = 10000 N/mm unknown\n",
+            1,
+        )
+        .replace("k_radial 13875 N/mm", "k_radial kA");
+    assert_ne!(declared, src);
+    let m = model(&declared);
+    let u = identify::select_unknowns(&m, &[]).expect("unknowns");
+    assert_eq!(u.len(), 1);
+    assert_eq!(u[0].label(), "kA");
+    let data = measured_in_model_frame(&mcpherson(), "thesis_table_5_1", 0.05, 13);
+    let r = identify::lsq::identify(&m, &u, &data, Default::default()).expect("lsq");
+    let (_, p) = param(&r, "kA");
+    let (lo, hi) = p.interval.expect("identified");
+    eprintln!("kA: {:?} [{lo}, {hi}]", p.value);
+    assert!(lo <= 13875.0 && 13875.0 <= hi && hi / lo < 1.1, "{p:?}");
+}
