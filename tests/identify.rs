@@ -274,7 +274,7 @@ fn mcpherson_lsq_intervals_cover_the_truth() {
                 p.value.map(b),
                 p.interval.map(|(a, c)| (b(a), b(c)))
             );
-            if let Some((lo, hi)) = p.interval {
+            if let Some((_, hi)) = p.interval {
                 identified += 1;
                 // Marginal 95 % intervals of ~6 parameters all cover the truth
                 // only ~75 % of the time; the check widens them to 99.9 %
@@ -349,4 +349,325 @@ fn half_k_x_of_bushing_a_found_by_all_three_methods() {
     let (_, p) = param(&r, "A.k_x");
     let (lo, hi) = p.interval.expect("lsq identifies A.k_x");
     assert!(lo <= 7300.0 && 7300.0 <= hi && hi < 13875.0, "lsq {p:?}");
+}
+
+/// The polylines of an SVG with more than two points (legend samples have
+/// two), as (stroke colour, pixel points), in document order.
+fn polylines(svg: &str) -> Vec<(String, Vec<(f64, f64)>)> {
+    let attr = |tag: &str, name: &str| -> Option<String> {
+        let i = tag.find(&format!(" {name}=\""))? + name.len() + 3;
+        Some(tag[i..i + tag[i..].find('"')?].to_string())
+    };
+    svg.split("<polyline")
+        .skip(1)
+        .filter_map(|t| {
+            let tag = &t[..t.find("/>")?];
+            let pts: Vec<(f64, f64)> = attr(tag, "points")?
+                .split_whitespace()
+                .filter_map(|p| {
+                    let (x, y) = p.split_once(',')?;
+                    Some((x.parse().ok()?, y.parse().ok()?))
+                })
+                .collect();
+            if pts.len() > 2 {
+                Some((attr(tag, "stroke")?, pts))
+            } else {
+                None
+            }
+        })
+        .collect()
+}
+
+/// `axle identify --report DIR` (figure 5.9): from landmarks of the truth
+/// along Table 5-1 and a model whose bushings A and B all start at the
+/// thesis' 10000, the iterative method's report has one plot per swept load
+/// direction with the measured, initial and identified curves, and on every
+/// panel the identified curve lies far closer to the measured one than the
+/// initial curve does (compared in the SVG's own pixel coordinates).
+#[test]
+fn cli_report_plots_measured_initial_and_identified_curves() {
+    let truth = mcpherson();
+    let id = truth.load_set_named("thesis_table_5_1").expect("set");
+    let csv = axle::measure::synthetic::landmarks_csv(&truth, id, 0.0, 1).expect("solves");
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("identify_report");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("tmp dir");
+    let lm = dir.join("landmarks.csv");
+    std::fs::write(&lm, csv).expect("write landmarks");
+    let out_model = dir.join("identified.axle");
+    let report = dir.join("report");
+    let mut args: Vec<String> = [
+        "identify",
+        "examples/mcpherson.axle",
+        "--landmarks",
+        lm.to_str().expect("utf-8"),
+        "--method",
+        "iterative",
+        "--initial",
+        "10000",
+        "--format",
+        "json",
+        "-o",
+        out_model.to_str().expect("utf-8"),
+        "--report",
+        report.to_str().expect("utf-8"),
+        "--unknown",
+    ]
+    .map(String::from)
+    .to_vec();
+    args.extend(ab_unknowns(&truth).iter().flat_map(|u| u.names.clone()));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_axle"))
+        .args(&args)
+        .output()
+        .expect("runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(json["method"], "iterative");
+    let ax = &json["parameters"]["A.k_x"];
+    assert_eq!(ax["initial"], 10000.0);
+    assert!(rel(ax["value"].as_f64().expect("A.k_x value"), 13875.0) < 0.05);
+    // -o writes the identified model, which checks and carries the value.
+    let written = model(&std::fs::read_to_string(&out_model).expect("-o written"));
+    let u = identify::select_unknowns(&written, &["A.k_x".to_string()]).expect("A.k_x");
+    assert!(rel(axle::units::to_boundary(u[0].initial, u[0].dim), 13875.0) < 0.05);
+
+    let mut files: Vec<String> = std::fs::read_dir(&report)
+        .expect("report dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    assert_eq!(
+        files,
+        [
+            "toe_camber_lateral.svg",
+            "toe_camber_longitudinal.svg",
+            "toe_camber_vertical.svg"
+        ]
+    );
+    // One note per plot with the RMS toe / camber differences (deg) to the
+    // measured curve: "... initial T / C deg, identified T / C deg".
+    let notes: Vec<&str> = json["notes"]
+        .as_array()
+        .expect("notes")
+        .iter()
+        .filter_map(|n| n.as_str().filter(|s| s.starts_with("report ")))
+        .collect();
+    assert_eq!(notes.len(), 3, "{notes:?}");
+    for n in &notes {
+        let rms = |key: &str| -> [f64; 2] {
+            let tail = &n[n.find(key).expect(key) + key.len()..];
+            let mut w = tail.split_whitespace();
+            let t = w.next().expect("toe").parse().expect("number");
+            assert_eq!(w.next(), Some("/"));
+            let c = w.next().expect("camber").trim_end_matches(',');
+            [t, c.parse().expect("number")]
+        };
+        let (init, ident) = (rms("initial "), rms("identified "));
+        eprintln!("{n}");
+        // Noise-free data: the identified model is within 0.02 deg everywhere,
+        // and at least ten times closer than the all-10000 start.
+        for k in 0..2 {
+            assert!(ident[k] < 0.02 && ident[k] < 0.1 * init[k], "{n}");
+        }
+    }
+    // Colours of the three series, as plot.rs draws them.
+    let (measured, initial, identified) = ("#005AB4", "#C83C14", "#1E8C3C");
+    for f in &files {
+        let svg = std::fs::read_to_string(report.join(f)).expect("svg");
+        for label in ["measured", "initial model", "identified model", "Toe angle"] {
+            assert!(svg.contains(label), "{f}: no {label}");
+        }
+        let lines = polylines(&svg);
+        // Two panels (toe, camber), each measured, initial, identified.
+        let colours: Vec<&str> = lines.iter().map(|(c, _)| c.as_str()).collect();
+        assert_eq!(
+            colours,
+            [measured, initial, identified, measured, initial, identified],
+            "{f}"
+        );
+        // Five steps per direction of Table 5-1 (the 4500 N vertical step in each).
+        for (_, pts) in &lines {
+            assert_eq!(pts.len(), 5, "{f}");
+        }
+        for panel in lines.chunks(3) {
+            let dist = |k: usize| -> f64 {
+                panel[0]
+                    .1
+                    .iter()
+                    .zip(&panel[k].1)
+                    .map(|(a, b)| {
+                        assert_eq!(a.0, b.0, "same x (load) for every series");
+                        (a.1 - b.1).abs()
+                    })
+                    .fold(0.0, f64::max)
+            };
+            let (d_init, d_ident) = (dist(1), dist(2));
+            eprintln!("{f}: largest pixel distance initial {d_init}, identified {d_ident}");
+            assert!(
+                d_ident < 0.1 * d_init,
+                "{f}: identified {d_ident} px vs initial {d_init} px"
+            );
+        }
+    }
+}
+
+/// Like [`measured_from_landmarks`] without the ground's landmarks: the poses
+/// are measured in the model frame, with no registration. (With the chassis
+/// landmarks, one registration pose fitted from all steps adds an error common
+/// to every step that the least-squares noise model does not contain, and the
+/// stiffness intervals come out too narrow: A.k_x missed its 95 % interval for
+/// 2 of 3 seeds here, against 0 of 6 without registration.)
+fn measured_in_model_frame(truth: &Model, set: &str, sigma: f64, seed: u64) -> Measured {
+    let id = truth.load_set_named(set).expect("load set");
+    let csv =
+        axle::measure::synthetic::landmarks_csv(truth, id, sigma, seed).expect("truth solves");
+    let ground = &truth.part(truth.ground().expect("ground")).name;
+    let csv: String = csv
+        .lines()
+        .filter(|l| l.split(',').nth(1) != Some(ground.as_str()))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let (obs, _) = axle::data::landmarks::read(&csv, truth).expect("reads");
+    let (poses, issues) = axle::measure::poses::fit_poses(truth, &obs, 0.5);
+    assert!(issues.is_empty());
+    let steps: Vec<usize> = poses.iter().map(|p| p.step).collect();
+    let loads = identify::measured::loads_of_set(truth, id);
+    let loads = identify::measured::match_in_order(loads, &steps).expect("counts agree");
+    Measured::from_poses(truth, &poses, &loads).expect("measured")
+}
+
+/// Geometry and stiffness at once (beyond the thesis, its named next step):
+/// the truth's ball joint L7 sits 2 mm higher than the model says. Least
+/// squares over L7.z and the arms' k_x from σ = 0.05 mm landmarks finds the
+/// height within a fraction of a millimetre and every value within its 95 %
+/// interval.
+#[test]
+fn lsq_joint_coordinate_and_stiffnesses_together() {
+    let nominal = mcpherson();
+    let names: Vec<String> = ["L7.z", "A.k_x", "B.k_x"].map(String::from).to_vec();
+    let u = identify::select_unknowns(&nominal, &names).expect("unknowns");
+    let z0 = u[0].initial;
+    let mut truth = nominal.clone();
+    u[0].set(&mut truth, z0 + 2.0);
+    let data = measured_in_model_frame(&truth, "thesis_table_5_1", 0.05, 5);
+    let r = identify::lsq::identify(&nominal, &u, &data, Default::default()).expect("lsq");
+    eprintln!("{} iterations, sigma0 {:?}", r.iterations, r.sigma0);
+    for (name, expected) in [("L7.z", z0 + 2.0), ("A.k_x", 13875.0), ("B.k_x", 310.0)] {
+        let (_, p) = param(&r, name);
+        let (lo, hi) = p
+            .interval
+            .unwrap_or_else(|| panic!("{name} not identified: {p:?}"));
+        eprintln!("{name}: {:?} [{lo}, {hi}] truth {expected}", p.value);
+        assert!(lo <= expected && expected <= hi, "{name}: {p:?}");
+    }
+    let (_, z) = param(&r, "L7.z");
+    let (lo, hi) = z.interval.expect("interval");
+    // Resolved to a fraction of the 2 mm offset, and away from the model's value.
+    assert!(hi - lo < 0.2 && lo > z0 + 1.5, "L7.z interval [{lo}, {hi}]");
+}
+
+/// The table a user reads, with the iteration history (snapshot): three
+/// stiffnesses from 10000 on noise-free landmarks along Table 5-1.
+#[test]
+fn cli_iterative_table_with_history_snapshot() {
+    let truth = mcpherson();
+    let id = truth.load_set_named("thesis_table_5_1").expect("set");
+    let csv = axle::measure::synthetic::landmarks_csv(&truth, id, 0.0, 1).expect("solves");
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("identify_table");
+    std::fs::create_dir_all(&dir).expect("tmp dir");
+    let lm = dir.join("landmarks.csv");
+    std::fs::write(&lm, csv).expect("write landmarks");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_axle"))
+        .args(["identify", "examples/mcpherson.axle", "--landmarks"])
+        .arg(&lm)
+        .args(["--method", "iterative", "--initial", "10000"])
+        .args(["--unknown", "A.k_x", "A.k_z", "B.k_x"])
+        .output()
+        .expect("runs");
+    assert!(out.status.success());
+    insta::assert_snapshot!(String::from_utf8_lossy(&out.stdout));
+}
+
+/// K&C channels join the landmarks in least squares, weighted by their noise:
+/// toe, camber (σ 0.01 deg) and wheel centre (σ 0.05 mm) of the truth, with
+/// that noise, added to the σ = 0.05 mm landmarks. More data of the same
+/// quality: every interval narrows and still covers the truth.
+#[test]
+fn lsq_kc_channels_narrow_the_intervals() {
+    let truth = mcpherson();
+    let set = truth.load_set_named("thesis_table_5_1").expect("set");
+    let eqs = statics::solve_set(&truth, set).expect("solves");
+    let mut noise = axle::measure::synthetic::Noise::new(11);
+    let kc: Vec<(usize, identify::KcObservation)> = eqs
+        .iter()
+        .enumerate()
+        .map(|(k, e)| {
+            let q = axle::kc::wheel_quantities(&truth, &e.state, &truth.wheels[0]);
+            let c = q.center.map(|v| v + 0.05 * noise.normal());
+            let obs = identify::KcObservation {
+                toe_deg: q.toe_deg + 0.01 * noise.normal(),
+                camber_deg: q.camber_deg + 0.01 * noise.normal(),
+                wc: axle::geom::Vec3::new(c[0], c[1], c[2]),
+            };
+            (k + 1, obs)
+        })
+        .collect();
+    let plain = measured_in_model_frame(&truth, "thesis_table_5_1", 0.05, 12);
+    let mut with_kc = plain.clone();
+    identify::measured::attach_kc(&mut with_kc, &kc);
+    assert!(with_kc.steps.iter().all(|s| s.kc.is_some()));
+    let names: Vec<String> = ["A.k_x", "A.kt_z", "B.k_x"].map(String::from).to_vec();
+    let u = identify::select_unknowns(&truth, &names).expect("unknowns");
+    let mut init = truth.clone();
+    for x in &u {
+        x.set(&mut init, x.initial * 1.3);
+    }
+    let u0 = identify::select_unknowns(&init, &names).expect("unknowns");
+    let a = identify::lsq::identify(&init, &u0, &plain, Default::default()).expect("lsq");
+    let b = identify::lsq::identify(&init, &u0, &with_kc, Default::default()).expect("lsq");
+    assert!(b.notes[0].contains(&format!("{} independent", 6 * 4 * 13 + 5 * 13)));
+    for (x, truth_x) in u0.iter().zip(&u) {
+        let name = &x.names[0];
+        let (_, pa) = param(&a, name);
+        let (_, pb) = param(&b, name);
+        let (la, ha) = pa.interval.expect("landmarks alone identify it");
+        let (lb, hb) = pb.interval.expect("with K&C");
+        eprintln!(
+            "{name}: truth {} landmarks [{la}, {ha}], with K&C [{lb}, {hb}]",
+            truth_x.initial
+        );
+        assert!(hb / lb < ha / la, "{name} did not narrow");
+        assert!(
+            lb <= truth_x.initial && truth_x.initial <= hb,
+            "{name}: {pb:?}"
+        );
+    }
+}
+
+/// Unknowns the file marks: with no `--unknown`, a parameter declared
+/// `unknown` is the one thing identified (not the default set), and least
+/// squares finds the truth's value for it. Here A's radial stiffness is a
+/// parameter started at the thesis' 10000.
+#[test]
+fn parameter_marked_unknown_in_the_file_is_identified() {
+    let src = include_str!("../examples/mcpherson.axle");
+    let declared = src
+        .replacen(
+            "import mcpherson_loads\n",
+            "import mcpherson_loads\nparam kA = 10000 N/mm unknown\n",
+            1,
+        )
+        .replace("k_radial 13875 N/mm", "k_radial kA");
+    assert_ne!(declared, src);
+    let m = model(&declared);
+    let u = identify::select_unknowns(&m, &[]).expect("unknowns");
+    assert_eq!(u.len(), 1);
+    assert_eq!(u[0].label(), "kA");
+    let data = measured_in_model_frame(&mcpherson(), "thesis_table_5_1", 0.05, 13);
+    let r = identify::lsq::identify(&m, &u, &data, Default::default()).expect("lsq");
+    let (_, p) = param(&r, "kA");
+    let (lo, hi) = p.interval.expect("identified");
+    eprintln!("kA: {:?} [{lo}, {hi}]", p.value);
+    assert!(lo <= 13875.0 && 13875.0 <= hi && hi / lo < 1.1, "{p:?}");
 }

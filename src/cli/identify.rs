@@ -1,8 +1,9 @@
 //! `axle identify FILE --landmarks CSV [--kc CSV] [--loads CSV] [--loadcases SET]
 //! --method direct|iterative|lsq [--unknown NAME...] [--format table|json]
-//! [-o OUT.axle]`: reads the model and the data, runs one identification
+//! [-o OUT.axle] [--report DIR]`: reads the model and the data, runs one identification
 //! method, prints the parameters (boundary units) and optionally writes the
-//! identified model.
+//! identified model and the plots comparing measured, initial and identified
+//! K&C curves.
 
 use super::Exit;
 use crate::diagnostic::render;
@@ -64,6 +65,10 @@ pub struct IdentifyArgs {
     /// Least squares: landmark noise, mm (standard deviation per coordinate).
     #[arg(long, default_value_t = 0.05)]
     pub sigma: f64,
+    /// Write SVG plots of measured, initial and identified toe and camber
+    /// under each load direction the data sweep into this directory.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
 }
 
 fn fail(sources: &SourceMap, d: crate::diagnostic::Diagnostic) -> Exit {
@@ -245,6 +250,12 @@ pub fn run(a: &IdentifyArgs) -> Exit {
             return Exit::Io;
         }
     }
+    if let Some(dir) = &a.report {
+        match write_report(dir, &model, &r, &data) {
+            Ok(n) => r.notes.extend(n),
+            Err(e) => return e,
+        }
+    }
     match a.format {
         IdentifyFormat::Json => println!(
             "{}",
@@ -253,6 +264,52 @@ pub fn run(a: &IdentifyArgs) -> Exit {
         IdentifyFormat::Table => print!("{}", to_table(&r)),
     }
     Exit::Ok
+}
+
+/// Writes `toe_camber_<direction>.svg` per swept load direction into `dir`;
+/// returns one note per file with the toe and camber RMS against the measured
+/// curve of the initial and the identified model.
+fn write_report(
+    dir: &Path,
+    initial: &crate::model::Model,
+    r: &Identified,
+    data: &Measured,
+) -> Result<Vec<String>, Exit> {
+    let curves = identify::report::curves(initial, &r.apply(initial), data).map_err(|e| {
+        let named: Vec<String> = e.elements.iter().map(|x| initial.describe(*x)).collect();
+        if named.is_empty() {
+            eprintln!("error: {}", e.message);
+        } else {
+            eprintln!("error: {} [{}]", e.message, named.join(", "));
+        }
+        Exit::Input
+    })?;
+    if let Err(e) = std::fs::create_dir_all(dir) {
+        eprintln!("error: cannot create {}: {e}", dir.display());
+        return Err(Exit::Io);
+    }
+    let mut notes = Vec::new();
+    for c in &curves {
+        let text = identify::report::svg(c, &initial.name, r.method).map_err(|e| {
+            eprintln!("error: cannot draw the report plots: {e}");
+            Exit::Io
+        })?;
+        let path = dir.join(format!("toe_camber_{}.svg", c.name));
+        if let Err(e) = std::fs::write(&path, text) {
+            eprintln!("error: cannot write {}: {e}", path.display());
+            return Err(Exit::Io);
+        }
+        notes.push(format!(
+            "report {}: {} measured steps; RMS toe / camber against measured: initial {:.4} / {:.4} deg, identified {:.4} / {:.4} deg",
+            path.display(),
+            c.measured.len(),
+            c.rms(&c.initial, false),
+            c.rms(&c.initial, true),
+            c.rms(&c.identified, false),
+            c.rms(&c.identified, true),
+        ));
+    }
+    Ok(notes)
 }
 
 /// A finite number as JSON, anything else as null (JSON has no NaN).
@@ -358,6 +415,26 @@ pub fn to_table(r: &Identified) -> String {
                 fmt_num(c.value),
                 c.unit
             );
+        }
+    }
+    if r.history.len() > 1 {
+        let _ = writeln!(o, "iteration history (boundary units):");
+        let w: Vec<usize> = r.unknowns.iter().map(|u| u.names[0].len().max(9)).collect();
+        let _ = write!(o, "{:>4}", "it");
+        for (u, w) in r.unknowns.iter().zip(&w) {
+            let _ = write!(o, " {:>w$}", u.names[0]);
+        }
+        let _ = writeln!(o);
+        for h in &r.history {
+            let _ = write!(o, "{:>4}", h.iteration);
+            for ((u, v), w) in r.unknowns.iter().zip(&h.values).zip(&w) {
+                let _ = write!(
+                    o,
+                    " {:>w$}",
+                    fmt_num(identify::round_sig(to_boundary(*v, u.dim), 5))
+                );
+            }
+            let _ = writeln!(o);
         }
     }
     let _ = writeln!(o, "rank {}, iterations {}", r.rank, r.iterations);

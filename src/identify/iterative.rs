@@ -225,7 +225,12 @@ pub fn identify(
                     format!(
                         "{}: r = {r:.3}, offset {:.4} {unit}",
                         u.names[a],
-                        if e0b.is_finite() { e0b } else { 0.0 }
+                        // No "-0.0000" for an offset that rounds to zero.
+                        if e0b.is_finite() && e0b.abs() >= 5e-5 {
+                            e0b
+                        } else {
+                            0.0
+                        }
                     )
                 } else {
                     format!(

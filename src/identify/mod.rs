@@ -24,6 +24,7 @@ pub mod iterative;
 pub mod linalg;
 pub mod lsq;
 pub mod measured;
+pub mod report;
 pub mod unknowns;
 
 pub use measured::{KcObservation, Measured, MeasuredStep};

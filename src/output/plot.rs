@@ -1,6 +1,8 @@
 //! K&C plots as one SVG of small multiples, like the thesis figures 2.18 and
 //! 4.11: each panel one quantity against the swept variable, with a title,
-//! axis labels with units, and one line per wheel. SVG only (no system fonts).
+//! axis labels with units, and one line per wheel, or the measured, initial
+//! and identified curves of `identify --report` overlaid. SVG only (no system
+//! fonts).
 
 use crate::kc::KcRow;
 use plotters::prelude::*;
@@ -96,21 +98,72 @@ const COLOURS: [RGBColor; 4] = [
     RGBColor(120, 60, 160),
 ];
 
+/// One line of every panel: a legend label, a colour, the rows it joins in
+/// order, and whether each row is also marked by a dot (measured points).
+struct Line<'a> {
+    label: &'a str,
+    colour: RGBColor,
+    rows: Vec<&'a KcRow>,
+    dots: bool,
+}
+
 /// The SVG text of the plots of a K&C path.
 pub fn svg(title: &str, rows: &[KcRow], sweep: Sweep) -> Result<String, String> {
-    let panels = panels(sweep);
     let mut wheels: Vec<&str> = Vec::new();
     for r in rows {
         if !wheels.contains(&r.wheel.as_str()) {
             wheels.push(&r.wheel);
         }
     }
+    let lines: Vec<Line> = wheels
+        .iter()
+        .enumerate()
+        .map(|(k, w)| Line {
+            label: w,
+            colour: COLOURS[k % COLOURS.len()],
+            rows: rows.iter().filter(|r| r.wheel == *w).collect(),
+            dots: false,
+        })
+        .collect();
+    draw(title, &lines, sweep, wheels.len() > 1)
+}
+
+/// The legend labels of [`overlay_svg`], in drawing order.
+pub const OVERLAY_LABELS: [&str; 3] = ["measured", "initial model", "identified model"];
+
+/// Measured, initial-model and identified-model K&C curves of one wheel on
+/// the same panels with a legend (thesis figures 4.11, 5.9, 5.12). Each slice
+/// is drawn in its order; the measured one also with a dot per row.
+pub fn overlay_svg(
+    title: &str,
+    measured: &[KcRow],
+    initial: &[KcRow],
+    identified: &[KcRow],
+    sweep: Sweep,
+) -> Result<String, String> {
+    let lines: Vec<Line> = [measured, initial, identified]
+        .iter()
+        .zip(OVERLAY_LABELS)
+        .enumerate()
+        .map(|(k, (rows, label))| Line {
+            label,
+            colour: COLOURS[k],
+            rows: rows.iter().collect(),
+            dots: k == 0,
+        })
+        .collect();
+    draw(title, &lines, sweep, true)
+}
+
+fn draw(title: &str, lines: &[Line], sweep: Sweep, legend: bool) -> Result<String, String> {
+    let panels = panels(sweep);
     let x_label = match sweep {
         Sweep::Bump => "wheel travel [mm]",
         Sweep::Force(c) => FORCE_LABELS[c.min(5)],
     };
     let cols = 2u32;
     let nrows = panels.len().div_ceil(2) as u32;
+    let all = || lines.iter().flat_map(|l| l.rows.iter().copied());
     let mut out = String::new();
     {
         let root =
@@ -120,9 +173,9 @@ pub fn svg(title: &str, rows: &[KcRow], sweep: Sweep) -> Result<String, String> 
             .titled(title, ("sans-serif", 22))
             .map_err(|e| e.to_string())?;
         let areas = root.split_evenly((nrows as usize, cols as usize));
-        let xr = range(rows.iter().map(|r| x_of(sweep, r)));
+        let xr = range(all().map(|r| x_of(sweep, r)));
         for (panel, area) in panels.iter().zip(areas.iter()) {
-            let yr = range(rows.iter().map(panel.y));
+            let yr = range(all().map(panel.y));
             let mut chart = ChartBuilder::on(area)
                 .caption(panel.title, ("sans-serif", 18))
                 .margin(12)
@@ -137,23 +190,29 @@ pub fn svg(title: &str, rows: &[KcRow], sweep: Sweep) -> Result<String, String> 
                 .light_line_style(RGBColor(235, 235, 235))
                 .draw()
                 .map_err(|e| e.to_string())?;
-            for (k, w) in wheels.iter().enumerate() {
-                let colour = COLOURS[k % COLOURS.len()];
-                let pts: Vec<(f64, f64)> = rows
+            for line in lines {
+                let colour = line.colour;
+                let pts: Vec<(f64, f64)> = line
+                    .rows
                     .iter()
-                    .filter(|r| r.wheel == *w)
                     .map(|r| (x_of(sweep, r), (panel.y)(r)))
+                    .filter(|(x, y)| x.is_finite() && y.is_finite())
                     .collect();
+                if line.dots {
+                    chart
+                        .draw_series(pts.iter().map(|p| Circle::new(*p, 3, colour.filled())))
+                        .map_err(|e| e.to_string())?;
+                }
                 let series = chart
                     .draw_series(LineSeries::new(pts, colour.stroke_width(2)))
                     .map_err(|e| e.to_string())?;
-                if wheels.len() > 1 {
+                if legend {
                     series
-                        .label(*w)
+                        .label(line.label)
                         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour));
                 }
             }
-            if wheels.len() > 1 {
+            if legend {
                 chart
                     .configure_series_labels()
                     .background_style(WHITE)

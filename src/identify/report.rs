@@ -1,0 +1,313 @@
+//! The K&C curves of `identify --report` (thesis figures 4.11, 5.9, 5.12):
+//! toe and camber of the first wheel under each load direction the measured
+//! steps sweep, as measured, as the initial model computes them and as the
+//! identified model computes them.
+//!
+//! The measured quantities come from the K&C file when given, else from the
+//! fitted pose of the wheel's part. Both models are solved at the measured
+//! loads, step after step (warm starts), so the three curves share their x
+//! values: the applied wheel load.
+
+use super::measured::Measured;
+use super::{IdentifyError, Method};
+use crate::geom::Vec3;
+use crate::kc::{KcRow, WheelQuantities, wheel_quantities};
+use crate::model::{ElementId, Model, Wheel, WheelId};
+use crate::statics::{self, Problem, State};
+
+/// Names of the load directions, by force component (fx, fy, fz).
+const DIRECTIONS: [&str; 3] = ["longitudinal", "lateral", "vertical"];
+
+/// The three curves along one load direction, each ordered by that load.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Curves {
+    /// The swept force component: 0, 1, 2 = fx, fy, fz.
+    pub component: usize,
+    /// `longitudinal`, `lateral` or `vertical`: the file is `toe_camber_<name>.svg`.
+    pub name: &'static str,
+    pub measured: Vec<KcRow>,
+    pub initial: Vec<KcRow>,
+    pub identified: Vec<KcRow>,
+}
+
+impl Curves {
+    /// Root-mean-square difference, deg, of toe (`camber == false`) or camber
+    /// between a model's curve and the measured one, over the measured steps.
+    pub fn rms(&self, model: &[KcRow], camber: bool) -> f64 {
+        let q = |r: &KcRow| {
+            if camber {
+                r.quantities.camber_deg
+            } else {
+                r.quantities.toe_deg
+            }
+        };
+        let d: Vec<f64> = self
+            .measured
+            .iter()
+            .filter_map(|m| {
+                let s = model.iter().find(|r| r.step == m.step)?;
+                Some(q(s) - q(m))
+            })
+            .filter(|d| d.is_finite())
+            .collect();
+        if d.is_empty() {
+            return f64::NAN;
+        }
+        (d.iter().map(|x| x * x).sum::<f64>() / d.len() as f64).sqrt()
+    }
+}
+
+/// The wheel load of every step: force and torque on the contact marker.
+fn wheel_load(data: &Measured, w: &Wheel) -> Vec<(Vec3, Vec3)> {
+    data.steps
+        .iter()
+        .map(|s| {
+            s.loads
+                .iter()
+                .filter(|l| l.marker == w.contact)
+                .fold((Vec3::zeros(), Vec3::zeros()), |(f, t), l| {
+                    (f + l.force, t + l.torque)
+                })
+        })
+        .collect()
+}
+
+fn row(step: usize, w: &Wheel, load: (Vec3, Vec3), q: WheelQuantities) -> KcRow {
+    KcRow {
+        step,
+        loadcase: format!("step {step}"),
+        wheel: w.name.clone(),
+        force: load.0.into(),
+        torque: load.1.into(),
+        quantities: q,
+    }
+}
+
+/// The measured quantities of step `k`: the K&C channels, else the pose of
+/// the wheel's part; `None` when neither was measured.
+fn measured_row(model: &Model, data: &Measured, k: usize, w: &Wheel) -> Option<WheelQuantities> {
+    let s = &data.steps[k];
+    if let Some(o) = s.kc {
+        // Only toe, camber and the centre are channels of a K&C file.
+        let design = wheel_quantities(model, &State::design(model), w);
+        return Some(WheelQuantities {
+            center: o.wc.into(),
+            spin_axis: [f64::NAN; 3],
+            toe_deg: o.toe_deg,
+            camber_deg: o.camber_deg,
+            travel_mm: o.wc.z - design.center[2],
+            half_track_mm: f64::NAN,
+            half_track_change_mm: f64::NAN,
+        });
+    }
+    let parts = [model.marker(w.centre).part, model.marker(w.contact).part];
+    if parts
+        .iter()
+        .all(|p| s.poses.get(p.index()).is_some_and(|x| x.is_some()))
+    {
+        return Some(wheel_quantities(model, &data.state(k), w));
+    }
+    None
+}
+
+/// The wheel's quantities of `model` solved at every measured step in order.
+fn simulate(
+    model: &Model,
+    data: &Measured,
+    w: &Wheel,
+    which: &str,
+) -> Result<Vec<WheelQuantities>, IdentifyError> {
+    let problem = Problem::new(model)
+        .map_err(|e| IdentifyError::new(e.message(model), e.elements.clone()))?;
+    let mut prev = State::design(model);
+    let mut out = Vec::with_capacity(data.steps.len());
+    for s in &data.steps {
+        let eq = statics::solve(&problem, &s.loads, &prev).map_err(|e| {
+            IdentifyError::new(
+                format!(
+                    "report: the {which} model does not solve at step {}: {}",
+                    s.step,
+                    e.message(model)
+                ),
+                e.elements.clone(),
+            )
+        })?;
+        out.push(wheel_quantities(model, &eq.state, w));
+        prev = eq.state;
+    }
+    Ok(out)
+}
+
+/// The steps of each load direction: those loaded along `c` alone (besides a
+/// common vertical load for the horizontal directions), with at least three
+/// distinct loads; ordered by the load. When the steps sweep no direction
+/// alone, all of them along the component that varies most.
+fn groups(loads: &[(Vec3, Vec3)]) -> Vec<(usize, Vec<usize>)> {
+    let scale = loads
+        .iter()
+        .map(|(f, _)| f.amax())
+        .fold(0.0, f64::max)
+        .max(1e-9);
+    let zero = |v: f64| v.abs() <= 1e-6 * scale;
+    let same = |a: f64, b: f64| (a - b).abs() <= 1e-6 * scale;
+    let distinct = |idx: &[usize], c: usize| {
+        let mut v: Vec<f64> = idx.iter().map(|&k| loads[k].0[c]).collect();
+        v.sort_by(f64::total_cmp);
+        v.dedup_by(|a, b| same(*a, *b));
+        v.len()
+    };
+    let mut out = Vec::new();
+    for c in 0..3 {
+        let other: Vec<usize> = (0..2).filter(|&o| o != c).collect();
+        let mut idx: Vec<usize> = (0..loads.len())
+            .filter(|&k| other.iter().all(|&o| zero(loads[k].0[o])))
+            .collect();
+        if c < 2 {
+            // The vertical load the steps loaded along c are measured at.
+            let Some(fz) = idx
+                .iter()
+                .find(|&&k| !zero(loads[k].0[c]))
+                .map(|&k| loads[k].0[2])
+            else {
+                continue;
+            };
+            idx.retain(|&k| same(loads[k].0[2], fz));
+        }
+        if distinct(&idx, c) >= 3 {
+            idx.sort_by(|&a, &b| loads[a].0[c].total_cmp(&loads[b].0[c]));
+            out.push((c, idx));
+        }
+    }
+    if out.is_empty() && !loads.is_empty() {
+        let spread = |c: usize| {
+            let v = loads.iter().map(|(f, _)| f[c]);
+            v.clone().fold(f64::MIN, f64::max) - v.fold(f64::MAX, f64::min)
+        };
+        let c = (0..3)
+            .max_by(|&a, &b| spread(a).total_cmp(&spread(b)))
+            .unwrap_or(2);
+        let mut idx: Vec<usize> = (0..loads.len()).collect();
+        idx.sort_by(|&a, &b| loads[a].0[c].total_cmp(&loads[b].0[c]));
+        out.push((c, idx));
+    }
+    out
+}
+
+/// The curves of every load direction the data sweep. `initial` is the model
+/// identification started from, `identified` the result applied to it.
+pub fn curves(
+    initial: &Model,
+    identified: &Model,
+    data: &Measured,
+) -> Result<Vec<Curves>, IdentifyError> {
+    let Some(w) = initial.wheels.first() else {
+        return Err(IdentifyError::new(
+            "the report plots toe and camber of a wheel, and the model has none (declare a `wheel`)",
+            vec![],
+        ));
+    };
+    let loads = wheel_load(data, w);
+    if loads
+        .iter()
+        .all(|(f, t)| f.amax() == 0.0 && t.amax() == 0.0)
+    {
+        return Err(IdentifyError::new(
+            format!(
+                "the report plots against the load on wheel `{}`, and no step loads its contact marker",
+                w.name
+            ),
+            vec![ElementId::Wheel(WheelId(0))],
+        ));
+    }
+    let measured: Vec<Option<WheelQuantities>> = (0..data.steps.len())
+        .map(|k| measured_row(initial, data, k, w))
+        .collect();
+    if measured.iter().all(Option::is_none) {
+        return Err(IdentifyError::new(
+            format!(
+                "the report needs the measured toe and camber: give --kc, or landmarks on the part of wheel `{}`",
+                w.name
+            ),
+            vec![ElementId::Wheel(WheelId(0))],
+        ));
+    }
+    let init = simulate(initial, data, w, "initial")?;
+    let ident = simulate(identified, data, w, "identified")?;
+    let step = |k: usize| data.steps[k].step;
+    Ok(groups(&loads)
+        .into_iter()
+        .map(|(c, idx)| Curves {
+            component: c,
+            name: DIRECTIONS[c],
+            measured: idx
+                .iter()
+                .filter_map(|&k| measured[k].map(|q| row(step(k), w, loads[k], q)))
+                .collect(),
+            initial: idx
+                .iter()
+                .map(|&k| row(step(k), w, loads[k], init[k]))
+                .collect(),
+            identified: idx
+                .iter()
+                .map(|&k| row(step(k), w, loads[k], ident[k]))
+                .collect(),
+        })
+        .collect())
+}
+
+/// The SVG of one direction's curves.
+pub fn svg(c: &Curves, model: &str, method: Method) -> Result<String, String> {
+    let title = format!(
+        "{model}: toe and camber under {} load, measured vs {} identification",
+        c.name,
+        method.name()
+    );
+    crate::output::plot::overlay_svg(
+        &title,
+        &c.measured,
+        &c.initial,
+        &c.identified,
+        crate::output::plot::Sweep::Force(c.component),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn f(x: f64, y: f64, z: f64) -> (Vec3, Vec3) {
+        (Vec3::new(x, y, z), Vec3::zeros())
+    }
+
+    /// Table 5-1's pattern: a vertical sweep, then lateral and longitudinal
+    /// sweeps at 4500 N, each through the 4500 N vertical step.
+    #[test]
+    fn table_5_1_splits_into_three_sweeps() {
+        let mut l: Vec<(Vec3, Vec3)> = [1500.0, 3000.0, 4500.0, 6000.0, 7500.0]
+            .map(|z| f(0.0, 0.0, z))
+            .to_vec();
+        l.extend([-4000.0, -2000.0, 2000.0, 4000.0].map(|y| f(0.0, y, 4500.0)));
+        l.extend([4000.0, 2000.0, -2000.0, -4000.0].map(|x| f(x, 0.0, 4500.0)));
+        let g = groups(&l);
+        assert_eq!(
+            g,
+            vec![
+                (0, vec![12, 11, 2, 10, 9]),
+                (1, vec![5, 6, 2, 7, 8]),
+                (2, vec![0, 1, 2, 3, 4]),
+            ]
+        );
+    }
+
+    /// Combined loads sweep no direction alone: all steps, along the component
+    /// with the largest spread.
+    #[test]
+    fn combined_loads_fall_back_to_the_widest_component() {
+        let l = vec![
+            f(100.0, 900.0, 3000.0),
+            f(-100.0, -900.0, 3100.0),
+            f(50.0, 10.0, 3050.0),
+        ];
+        assert_eq!(groups(&l), vec![(1, vec![1, 2, 0])]);
+    }
+}
