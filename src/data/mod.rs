@@ -3,6 +3,7 @@
 //! reader is a pure function of the text and a file id; `cli/` reads the file.
 
 pub mod csv_error;
+pub mod iges;
 pub mod landmarks;
 pub mod loads;
 pub mod table;
