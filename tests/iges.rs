@@ -81,8 +81,8 @@ fn iges_points_become_landmark_observations_of_their_parts() {
     assert!(obs.iter().all(|o| o.step == 3));
     assert_eq!(obs[0].line, 27, "the point's parameter record");
     assert_eq!(skipped.len(), 1);
-    assert_eq!(&HAND[skipped[0].start..skipped[0].end].trim(), &"HUB");
-    assert_eq!(skipped[0].line, 25, "its directory entry");
+    assert_eq!(&HAND[skipped[0].start..skipped[0].end], "HUB");
+    assert_eq!(skipped[0].line, 26, "its label, on D 20");
     assert!(
         skipped[0]
             .message
@@ -92,7 +92,9 @@ fn iges_points_become_landmark_observations_of_their_parts() {
 
 /// Builds a file from its Start and Global lines and entities
 /// `(type, form, label, subscript, transform pointer, parameter lines)`.
-fn file(s: &[&str], g: &[&str], entities: &[(i64, i64, &str, i64, i64, &[&str])]) -> String {
+type Spec<'a> = (i64, i64, &'a str, i64, i64, &'a [&'a str]);
+
+fn file(s: &[&str], g: &[&str], entities: &[Spec]) -> String {
     let mut out = Vec::new();
     for (k, l) in s.iter().enumerate() {
         out.push(format!("{l:<72}S{:>7}", k + 1));

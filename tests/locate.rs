@@ -282,6 +282,70 @@ fn locate_cli_prints_the_interface_json_and_writes_the_located_model() {
     );
 }
 
+/// IGES files of one measured state each (what the thesis' measuring arm
+/// saved) locate every joint exactly as the same numbers in CSV do.
+#[test]
+fn locate_cli_reads_iges_files_one_per_step_like_the_csv() {
+    let (truth, nominal) = (truth(), mcpherson());
+    let set = truth.load_set_named("thesis_table_4_4").expect("set");
+    let csv = scratch(
+        "locate_iges_t44.csv",
+        &axle::measure::synthetic::landmarks_csv(&truth, set, 0.05, 2).expect("solves"),
+    );
+    let files: Vec<String> = axle::measure::synthetic::landmarks_iges(&truth, set, 0.05, 2)
+        .expect("solves")
+        .iter()
+        .enumerate()
+        .map(|(k, text)| scratch(&format!("locate_t44_{:02}.igs", k + 1), text))
+        .collect();
+    assert_eq!(files.len(), nominal.load_sets[set.index()].cases.len());
+    let run = |landmarks: &[String]| {
+        let mut args = vec![
+            "locate",
+            "examples/mcpherson.axle",
+            "--format",
+            "json",
+            "--landmarks",
+        ];
+        args.extend(landmarks.iter().map(String::as_str));
+        let (code, stdout, stderr) = axle(&args);
+        assert_eq!(code, 0, "{stderr}");
+        let v: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON document");
+        (v, stderr)
+    };
+    let (from_csv, _) = run(&[csv]);
+    let (from_iges, notes) = run(&files);
+    let last = format!(
+        "is step {}: {} landmark points",
+        files.len(),
+        nominal.landmarks.len()
+    );
+    assert!(notes.contains(&last), "{notes}");
+    assert_eq!(from_iges["reference_step"], from_csv["reference_step"]);
+    let (a, b) = (
+        from_iges["joints"].as_object().expect("joints"),
+        from_csv["joints"].as_object().expect("joints"),
+    );
+    assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
+    for (name, ji) in a {
+        let jc = &b[name];
+        assert_eq!(ji["observable"], jc["observable"], "{name}");
+        assert_eq!(ji["method"], jc["method"], "{name}");
+        for key in ["center", "axis"] {
+            match (ji[key].as_array(), jc[key].as_array()) {
+                (Some(x), Some(y)) => {
+                    for (p, q) in x.iter().zip(y) {
+                        let (p, q) = (p.as_f64().expect("n"), q.as_f64().expect("n"));
+                        assert!((p - q).abs() < 1e-9, "{name}.{key}: {p} vs {q}");
+                    }
+                }
+                (None, None) => {}
+                _ => panic!("{name}.{key} differs: {} vs {}", ji[key], jc[key]),
+            }
+        }
+    }
+}
+
 #[test]
 fn locate_cli_reports_bad_data_with_its_line() {
     let csv = scratch(

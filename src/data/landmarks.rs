@@ -151,7 +151,7 @@ pub fn from_iges(
                 let hint = did_you_mean(part_name, model.parts.iter().map(|p| p.name.as_str()));
                 let shown = e.name().unwrap_or("(no name)");
                 skipped.push(Skipped {
-                    line: line_of(e.de_start),
+                    line: line_of(e.label_span.0),
                     start: e.label_span.0,
                     end: e.label_span.1,
                     message: format!(

@@ -46,6 +46,9 @@ impl Noise {
     }
 }
 
+/// One measured landmark: part name, landmark name, position.
+type Point = (String, String, Vec3);
+
 /// Measured landmark positions of every case of a load set, in case order:
 /// `(part, landmark, position)`, with noise of standard deviation `sigma` mm
 /// per coordinate drawn in that order (so the CSV and IGES forms of the same
@@ -55,7 +58,7 @@ fn measured(
     set: LoadSetId,
     sigma: f64,
     seed: u64,
-) -> Result<Vec<Vec<(String, String, Vec3)>>, StaticsError> {
+) -> Result<Vec<Vec<Point>>, StaticsError> {
     let eqs = statics::solve_set(model, set)?;
     let mut noise = Noise::new(seed);
     Ok(eqs

@@ -147,6 +147,16 @@ pub fn parse(d: &[Record], p_count: usize) -> Result<Vec<Entry>, IgesError> {
             ));
         }
         let (rl, al, bl) = field(pair, 18);
+        // The label is right-justified: point at its characters, not the padding.
+        let raw = rl.cols(al, bl);
+        let lead = raw.iter().take_while(|c| **c == b' ').count();
+        let trail = raw.iter().rev().take_while(|c| **c == b' ').count();
+        let (ls, le) = rl.span(al, bl);
+        let label_span = if lead == raw.len() {
+            (ls, le)
+        } else {
+            (ls + lead, le - trail)
+        };
         out.push(Entry {
             seq: r1.seq,
             kind,
@@ -157,7 +167,7 @@ pub fn parse(d: &[Record], p_count: usize) -> Result<Vec<Entry>, IgesError> {
             label: String::from_utf8_lossy(rl.cols(al, bl)).trim().to_string(),
             subscript: int(pair, 19)?,
             kind_span: r1.span(a1, b1),
-            label_span: rl.span(al, bl),
+            label_span,
         });
     }
     Ok(out)
