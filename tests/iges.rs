@@ -67,6 +67,45 @@ fn the_hand_written_file_gives_its_points_lines_planes_and_names() {
     assert_eq!((sphere.kind, sphere.geometry.clone()), (158, None));
 }
 
+/// The thesis' own sample (Annexe B, `methods.md` §10.4), its Global section as
+/// printed: the points, line and plane with the values the thesis lists.
+#[test]
+fn the_thesis_annexe_b_sample_reads() {
+    let text = include_str!("data/iges/annexe_b.igs");
+    let f = iges::parse(text).expect("the thesis sample reads");
+    assert_eq!(f.global.product, "Convertisseur G-Tech ");
+    assert_eq!(
+        (f.global.units_flag, f.global.units_name.as_str()),
+        (2, "MM")
+    );
+    let names: Vec<&str> = f.points().map(|(e, _)| e.name().expect("named")).collect();
+    assert_eq!(names, ["Pt1", "Pt2"]);
+    let (_, pt1) = f.points().next().expect("Pt1");
+    assert!(close(
+        pt1,
+        Vec3::new(17.7197143876002, -160.229593209037, -6.73288989141572)
+    ));
+    let line = f.entities.iter().find(|e| e.label == "Dr1").expect("Dr1");
+    assert_eq!(
+        line.geometry,
+        Some(Geometry::Line {
+            from: Vec3::new(0.647563703122529, -358.153098982009, -16.8623597185424),
+            to: Vec3::new(0.647563703122504, 0.11386049782746, -17.5135153407048),
+        })
+    );
+    let plane = f.entities.iter().find(|e| e.label == "Pl1").expect("Pl1");
+    match plane.geometry {
+        Some(Geometry::Plane { normal, offset }) => {
+            assert!((normal - Vec3::z()).norm() < 1e-15);
+            assert!((offset + 2.97322844289585).abs() < 1e-12);
+        }
+        ref g => panic!("plane expected, got {g:?}"),
+    }
+    // The arc (100) and its matrix (124) are kept, not decoded.
+    let kinds: Vec<i64> = f.entities.iter().map(|e| e.kind).collect();
+    assert_eq!(kinds, [116, 116, 110, 108, 124, 100]);
+}
+
 #[test]
 fn iges_points_become_landmark_observations_of_their_parts() {
     let m = mcpherson();
