@@ -257,6 +257,12 @@ fn locate_cli_prints_the_interface_json_and_writes_the_located_model() {
     assert_eq!(l8["center"].as_array().expect("centre").len(), 3);
     assert!(l8["residual_mm"].is_number() && l8["uncertainty_mm"].is_number());
     assert!(l8["method"].as_str().expect("method").contains("3.12"));
+    // Every pose fit with the residual of each landmark (σ = 0.05 mm per coordinate).
+    let up = &v["poses"]["1"]["upright"];
+    let res = up["residuals_mm"].as_object().expect("residuals");
+    assert_eq!(res.len(), 4);
+    assert!(res.values().all(|r| r.as_f64().expect("mm") < 0.3), "{up}");
+    assert!(up["rms_mm"].as_f64().expect("rms") > 0.0);
     // The strut top without steering: a verdict, not a number.
     let f = &v["joints"]["F"];
     assert_eq!(f["observable"], false);

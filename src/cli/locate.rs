@@ -116,6 +116,12 @@ fn table(r: &Report) -> String {
             s += &format!("{:<10} {}\n", "", e.note);
         }
     }
+    if let Some((step, part, lm, worst)) = r.worst_landmark() {
+        let n: usize = r.poses.values().map(|p| p.len()).sum();
+        s += &format!(
+            "pose fits: {n} (part, step) pairs; worst landmark residual {worst:.3} mm ({part}.{lm} at step {step}); every residual in the JSON output\n"
+        );
+    }
     s
 }
 
