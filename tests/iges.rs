@@ -277,6 +277,20 @@ fn malformed_files_are_reported_with_file_line_and_record() {
     }
 }
 
+#[test]
+fn accented_comments_in_utf8_or_latin1_keep_their_columns() {
+    let utf8 = HAND.replacen("Measuring", "Méasuring", 1);
+    let e = iges::parse(&utf8).expect_err("IGES is ASCII");
+    assert_eq!(&utf8[e.start..e.end], "é");
+    let f = iges::parse(&iges::ascii_columns(utf8.as_bytes())).expect("one `?` per character");
+    assert_eq!(f.entities.len(), 10);
+    let mut latin1 = HAND.as_bytes().to_vec();
+    latin1[1] = 0xE9;
+    let text = iges::ascii_columns(&latin1);
+    assert!(text.starts_with("M?asuring"));
+    assert!(iges::parse(&text).is_ok());
+}
+
 fn floor_char(s: &str, i: usize) -> usize {
     let mut i = i % (s.len() + 1);
     while !s.is_char_boundary(i) {

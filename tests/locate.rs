@@ -371,6 +371,24 @@ fn locate_cli_reports_bad_data_with_its_line() {
         "no/such.csv",
     ]);
     assert_eq!(code, 2);
+    // An IGES file with a bad number: exit 1, file:line:column and the record.
+    let igs = scratch(
+        "bad_step.igs",
+        &include_str!("data/iges/hand.igs").replacen("116,62.,749.", "116,62.,7r9.", 1),
+    );
+    let (code, _, stderr) = axle(&["locate", "examples/mcpherson.axle", "--landmarks", &igs]);
+    assert_eq!(code, 1);
+    assert!(
+        stderr.contains(&format!("{igs}:27:9")) && stderr.contains("point D 1: y is `7r9.`"),
+        "{stderr}"
+    );
+    let (code, _, _) = axle(&[
+        "locate",
+        "examples/mcpherson.axle",
+        "--landmarks",
+        "no/such.igs",
+    ]);
+    assert_eq!(code, 2);
 }
 
 /// A wishbone on two bushings (axis along x through y = 300, z = 0), loaded
