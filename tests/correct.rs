@@ -192,34 +192,55 @@ fn correct_cli_writes_a_model_that_checks() {
             x.z
         );
     }
+    // The same state as the arm would save it: one IGES file, points named part.landmark.
+    let items: Vec<axle::data::iges::Item> = truth
+        .landmarks
+        .iter()
+        .enumerate()
+        .map(|(k, l)| {
+            let (t, r) = truth_state.part_pose(l.part);
+            axle::data::iges::Item {
+                name: format!("{}.{}", truth.part(l.part).name, l.name),
+                label: format!("PT{}", k + 1),
+                subscript: 0,
+                geometry: axle::data::iges::Geometry::Point(t + r * values(&l.position)),
+            }
+        })
+        .collect();
+    let iges = axle::data::iges::write("c3.igs", "assembled axle under case c3", &items);
     let _ = nominal;
     let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
-    let data = dir.join("correct_landmarks.csv");
-    std::fs::write(&data, csv).expect("write");
     let out = dir.join("corrected.axle");
-    let run = std::process::Command::new(env!("CARGO_BIN_EXE_axle"))
-        .args([
-            "correct",
-            "examples/mcpherson.axle",
-            "--landmarks",
-            &data.to_string_lossy(),
-            "--loadcases",
-            "thesis_table_5_1",
-            "--case",
-            "c3",
-            "-o",
-            &out.to_string_lossy(),
-        ])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("runs");
-    let stdout = String::from_utf8_lossy(&run.stdout);
-    assert_eq!(
-        run.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    let run = |name: &str, text: &str| {
+        let data = dir.join(name);
+        std::fs::write(&data, text).expect("write");
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_axle"))
+            .args([
+                "correct",
+                "examples/mcpherson.axle",
+                "--landmarks",
+                &data.to_string_lossy(),
+                "--loadcases",
+                "thesis_table_5_1",
+                "--case",
+                "c3",
+                "-o",
+                &out.to_string_lossy(),
+            ])
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .expect("runs");
+        assert_eq!(
+            run.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        String::from_utf8_lossy(&run.stdout).into_owned()
+    };
+    let from_iges = run("correct_landmarks.igs", &iges);
+    let stdout = run("correct_landmarks.csv", &csv);
+    assert_eq!(from_iges, stdout, "the IGES file corrects like the CSV");
     assert!(
         stdout.contains("spherical joint `L8`")
             && stdout.contains("not corrected: part `strut` carries no measured landmarks"),

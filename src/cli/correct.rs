@@ -1,18 +1,18 @@
-//! `axle correct FILE --landmarks CSV [--step N] [--loadcases SET] --case NAME -o OUT.axle`.
+//! `axle correct FILE --landmarks CSV|IGES... [--step N] [--loadcases SET] --case NAME -o OUT.axle`.
 
 use super::Exit;
-use crate::diagnostic::{Diagnostic, render};
+use crate::diagnostic::render;
 use crate::source::SourceMap;
-use crate::span::Span;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct Args {
     /// The axle model, with its parts as measured disassembled.
     pub file: PathBuf,
-    /// Landmark CSV of the assembled axle: step, part, landmark, x, y, z.
-    #[arg(long)]
-    pub landmarks: PathBuf,
+    /// Landmarks of the assembled axle: CSV (step, part, landmark, x, y, z)
+    /// and/or IGES files of one measured state each (see `axle locate`).
+    #[arg(long, required = true, num_args = 1..)]
+    pub landmarks: Vec<PathBuf>,
     /// The measured step to correct against (default: the first).
     #[arg(long)]
     pub step: Option<usize>,
@@ -68,37 +68,17 @@ pub fn run(a: &Args) -> Exit {
         return Exit::Input;
     };
     let loads = model.point_loads(set, case);
-    let Some(data) = super::read(&a.landmarks) else {
-        return Exit::Io;
+    let data = match super::locate::load_landmarks(&mut sources, &a.landmarks, &model) {
+        Ok(d) => d,
+        Err(code) => return code,
     };
-    let data_id = sources.add(a.landmarks.display().to_string(), data.clone());
-    let (obs, skipped) = match crate::data::landmarks::read(&data, &model) {
-        Ok(x) => x,
-        Err(e) => {
-            render::to_stderr(&sources, &[e.to_diagnostic(data_id)]);
-            return Exit::Input;
-        }
-    };
-    let mut warnings: Vec<Diagnostic> = skipped
-        .iter()
-        .map(|s| {
-            Diagnostic::warning("W0710", s.message.clone())
-                .primary(Span::new(data_id, s.start, s.end), "left out")
-        })
-        .collect();
-    let (steps, issues) = crate::measure::poses::fit_poses(&model, &obs, a.tolerance);
-    warnings.extend(
-        issues
-            .iter()
-            .map(|i| Diagnostic::warning("W0711", i.message(&model))),
-    );
-    render::to_stderr(&sources, &warnings);
+    let steps = data.fit(&sources, &model, a.tolerance);
     let step = a.step.or(steps.first().map(|s| s.step));
     let Some(measured) = steps.iter().find(|s| Some(s.step) == step) else {
         eprintln!(
             "error: no measured step {} in {}",
             step.unwrap_or(0),
-            a.landmarks.display()
+            data.shown()
         );
         return Exit::Input;
     };

@@ -1,20 +1,25 @@
-//! `axle locate FILE --landmarks CSV [--reference STEP] [--format table|json] [-o OUT.axle]`.
+//! `axle locate FILE --landmarks CSV|IGES... [--reference STEP] [--format table|json] [-o OUT.axle]`,
+//! and the landmark loading `correct` shares: CSV files, and IGES files of one
+//! measured state each.
 
 use super::Exit;
 use crate::diagnostic::{Diagnostic, render};
 use crate::locate::plan::{Options, locate_all};
 use crate::locate::report::{Report, apply, report};
+use crate::measure::poses::{MeasureIssue, Observation};
+use crate::model::Model;
 use crate::source::SourceMap;
-use crate::span::Span;
-use std::path::PathBuf;
+use crate::span::{FileId, Span};
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
     /// The axle model.
     pub file: PathBuf,
-    /// Landmark CSV: step, part, landmark, x, y, z (global mm).
-    #[arg(long)]
-    pub landmarks: PathBuf,
+    /// Landmark CSV (step, part, landmark, x, y, z; global mm) and/or IGES
+    /// files (.igs/.iges), one measured state each, numbered on after the CSV steps.
+    #[arg(long, required = true, num_args = 1..)]
+    pub landmarks: Vec<PathBuf>,
     /// The step whose state is the reference (results are in global coordinates there); default: the first.
     #[arg(long)]
     pub reference: Option<usize>,
@@ -45,44 +50,19 @@ pub fn run(a: &Args) -> Exit {
     let Some(model) = checked.model else {
         return Exit::Input;
     };
-    let Some(data) = super::read(&a.landmarks) else {
-        return Exit::Io;
+    let data = match load_landmarks(&mut sources, &a.landmarks, &model) {
+        Ok(d) => d,
+        Err(code) => return code,
     };
-    let data_id = sources.add(a.landmarks.display().to_string(), data.clone());
-    let (obs, skipped) = match crate::data::landmarks::read(&data, &model) {
-        Ok(x) => x,
-        Err(e) => {
-            render::to_stderr(&sources, &[e.to_diagnostic(data_id)]);
-            return Exit::Input;
-        }
-    };
-    let mut warnings: Vec<Diagnostic> = skipped
-        .iter()
-        .map(|s| {
-            Diagnostic::warning("W0710", s.message.clone())
-                .primary(Span::new(data_id, s.start, s.end), "left out")
-        })
-        .collect();
-    let (steps, issues) = crate::measure::poses::fit_poses(&model, &obs, a.tolerance);
-    warnings.extend(
-        issues
-            .iter()
-            .map(|i| Diagnostic::warning("W0711", i.message(&model))),
-    );
-    render::to_stderr(&sources, &warnings);
+    let steps = data.fit(&sources, &model, a.tolerance);
+    let shown = data.shown();
     if steps.is_empty() {
-        eprintln!(
-            "error: no step of {} gives a part pose",
-            a.landmarks.display()
-        );
+        eprintln!("error: no step of {shown} gives a part pose");
         return Exit::Input;
     }
     let reference = a.reference.unwrap_or(steps[0].step);
     if !steps.iter().any(|s| s.step == reference) {
-        eprintln!(
-            "error: step {reference} is not in {}",
-            a.landmarks.display()
-        );
+        eprintln!("error: step {reference} is not in {shown}");
         return Exit::Input;
     }
     let opt = Options {
@@ -136,5 +116,193 @@ fn table(r: &Report) -> String {
             s += &format!("{:<10} {}\n", "", e.note);
         }
     }
+    if let Some((step, part, lm, worst)) = r.worst_landmark() {
+        let n: usize = r.poses.values().map(|p| p.len()).sum();
+        s += &format!(
+            "pose fits: {n} (part, step) pairs; worst landmark residual {worst:.3} mm ({part}.{lm} at step {step}); every residual in the JSON output\n"
+        );
+    }
     s
+}
+
+/// Landmark observations from every `--landmarks` file, with where each came from.
+pub struct Landmarks {
+    pub observations: Vec<Observation>,
+    /// The file of each observation (parallel to `observations`).
+    files: Vec<FileId>,
+    names: Vec<String>,
+}
+
+fn is_iges(p: &Path) -> bool {
+    p.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("igs") || e.eq_ignore_ascii_case("iges"))
+}
+
+/// Byte range of 1-based line `n` of `text`.
+fn line_span(text: &str, n: usize) -> (usize, usize) {
+    let start: usize = text
+        .split_inclusive('\n')
+        .take(n.saturating_sub(1))
+        .map(str::len)
+        .sum();
+    let len = text[start..].find('\n').unwrap_or(text.len() - start);
+    (start, start + len)
+}
+
+/// Reads landmark files: CSV files keep their `step` column; IGES files are one
+/// measured state each, numbered in the order given after the last CSV step.
+/// Prints warnings, and notes about the lines and planes IGES files carry.
+/// `Err` once an error was printed (a missing file is an I/O error, exit 2).
+pub fn load_landmarks(
+    sources: &mut SourceMap,
+    paths: &[PathBuf],
+    model: &Model,
+) -> Result<Landmarks, Exit> {
+    let mut out = Landmarks {
+        observations: Vec::new(),
+        files: Vec::new(),
+        names: paths.iter().map(|p| p.display().to_string()).collect(),
+    };
+    let mut warnings: Vec<Diagnostic> = Vec::new();
+    let skipped_warning = |id: FileId, s: &crate::data::landmarks::Skipped| {
+        Diagnostic::warning("W0710", s.message.clone())
+            .primary(Span::new(id, s.start, s.end), "left out")
+    };
+    let (csv, iges): (Vec<&PathBuf>, Vec<&PathBuf>) = paths.iter().partition(|p| !is_iges(p));
+    for path in csv {
+        let text = super::read(path).ok_or(Exit::Io)?;
+        let id = sources.add(path.display().to_string(), text);
+        match crate::data::landmarks::read(sources.text(id), model) {
+            Ok((obs, skipped)) => {
+                warnings.extend(skipped.iter().map(|s| skipped_warning(id, s)));
+                out.files.extend(obs.iter().map(|_| id));
+                out.observations.extend(obs);
+            }
+            Err(e) => {
+                render::to_stderr(sources, &[e.to_diagnostic(id)]);
+                return Err(Exit::Input);
+            }
+        }
+    }
+    let first = out.observations.iter().map(|o| o.step).max().unwrap_or(0) + 1;
+    for (k, path) in iges.into_iter().enumerate() {
+        let bytes = std::fs::read(path).map_err(|e| {
+            eprintln!("error: cannot read {}: {e}", path.display());
+            Exit::Io
+        })?;
+        let text = crate::data::iges::ascii_columns(&bytes);
+        let id = sources.add(path.display().to_string(), text);
+        let text = sources.text(id);
+        let file = match crate::data::iges::parse(text) {
+            Ok(f) => f,
+            Err(e) => {
+                render::to_stderr(sources, &[e.to_diagnostic(id)]);
+                return Err(Exit::Input);
+            }
+        };
+        warnings.extend(file.warnings.iter().map(|w| {
+            let mut d = w.to_diagnostic(id);
+            d.severity = crate::diagnostic::Severity::Warning;
+            d
+        }));
+        let step = first + k;
+        let (obs, skipped) = crate::data::landmarks::from_iges(&file, step, text, model);
+        warnings.extend(skipped.iter().map(|s| skipped_warning(id, s)));
+        eprintln!(
+            "note: {} is step {step}: {} landmark points",
+            path.display(),
+            obs.len()
+        );
+        for line in geometry_notes(&file) {
+            eprintln!("  {line}");
+        }
+        out.files.extend(obs.iter().map(|_| id));
+        out.observations.extend(obs);
+    }
+    render::to_stderr(sources, &warnings);
+    Ok(out)
+}
+
+/// What an IGES file holds besides points: lines and planes are listed (the
+/// thesis measures joint axes and faces with them; `locate` finds axes from
+/// motion instead), other entity types counted.
+fn geometry_notes(file: &crate::data::iges::Iges) -> Vec<String> {
+    use crate::data::iges::Geometry;
+    let f = |v: crate::geom::Vec3| format!("({:.3}, {:.3}, {:.3})", v.x, v.y, v.z);
+    let mut notes = Vec::new();
+    let mut other: std::collections::BTreeMap<i64, usize> = Default::default();
+    for e in &file.entities {
+        let name = e.name().unwrap_or("(unnamed)");
+        match &e.geometry {
+            Some(Geometry::Line { from, to }) => notes.push(format!(
+                "line `{name}` (D {}) from {} to {}: read, not used by locate",
+                e.de,
+                f(*from),
+                f(*to)
+            )),
+            Some(Geometry::Plane { normal, offset }) => notes.push(format!(
+                "plane `{name}` (D {}) normal {} at {offset:.3} mm: read, not used by locate",
+                e.de,
+                f(*normal)
+            )),
+            Some(Geometry::Point(_)) => {}
+            None if matches!(e.kind, 124 | 406) => {}
+            None => *other.entry(e.kind).or_default() += 1,
+        }
+    }
+    for (kind, n) in other {
+        notes.push(format!(
+            "{n} entit{} of IGES type {kind} ignored",
+            if n == 1 { "y" } else { "ies" }
+        ));
+    }
+    notes
+}
+
+impl Landmarks {
+    /// The files, for messages.
+    pub fn shown(&self) -> String {
+        self.names.join(", ")
+    }
+
+    /// Fits every part's pose at every step and prints what was left out,
+    /// pointing at the line of the data file it came from.
+    pub fn fit(
+        &self,
+        sources: &SourceMap,
+        model: &Model,
+        tolerance: f64,
+    ) -> Vec<crate::measure::poses::StepPoses> {
+        let (steps, issues) =
+            crate::measure::poses::fit_poses(model, &self.observations, tolerance);
+        let at = |step: usize, line: usize| {
+            self.observations
+                .iter()
+                .zip(&self.files)
+                .find(|(o, _)| o.step == step && o.line == line)
+                .map(|(_, id)| {
+                    let (a, b) = line_span(sources.text(*id), line);
+                    Span::new(*id, a, b)
+                })
+        };
+        let warnings: Vec<Diagnostic> = issues
+            .iter()
+            .map(|i| {
+                let d = Diagnostic::warning("W0711", i.message(model));
+                let (span, label) = match i {
+                    MeasureIssue::LeftOut { step, line, .. } => (at(*step, *line), "left out"),
+                    MeasureIssue::NoPose { step, lines, .. } => {
+                        (lines.first().and_then(|l| at(*step, *l)), "no pose")
+                    }
+                };
+                match span {
+                    Some(s) => d.primary(s, label),
+                    None => d,
+                }
+            })
+            .collect();
+        render::to_stderr(sources, &warnings);
+        steps
+    }
 }

@@ -106,6 +106,66 @@ pub fn read(text: &str, model: &Model) -> Result<(Vec<Observation>, Vec<Skipped>
     Ok((obs, skipped))
 }
 
+/// Landmark observations of one measured state from an IGES file: every
+/// point named `<part>.<landmark>` (Name property or label), or labelled with
+/// the part's name alone (the landmark then is its subscript, since a label
+/// has 8 characters). Part names match case-insensitively when unambiguous,
+/// as measuring software often writes labels in capitals. A point that names
+/// no part is reported and left out, like a CSV row.
+pub fn from_iges(
+    iges: &super::iges::Iges,
+    step: usize,
+    text: &str,
+    model: &Model,
+) -> (Vec<Observation>, Vec<Skipped>) {
+    let mut obs = Vec::new();
+    let mut skipped = Vec::new();
+    let line_of = |at: usize| text[..at.min(text.len())].matches('\n').count() + 1;
+    for (e, position) in iges.points() {
+        let (part_name, label) = match e.name().map(|n| n.split_once('.').unwrap_or((n, ""))) {
+            Some((part, "")) => (part, e.subscript.to_string()),
+            Some((part, lm)) => (part, lm.to_string()),
+            None => ("", String::new()),
+        };
+        let part = model.part_named(part_name).or_else(|| {
+            let mut same = model
+                .parts
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| p.name.eq_ignore_ascii_case(part_name));
+            match (same.next(), same.next()) {
+                (Some((i, _)), None) => Some(crate::model::PartId(i as u32)),
+                _ => None,
+            }
+        });
+        let line = line_of(e.data_start);
+        match part {
+            Some(part) => obs.push(Observation {
+                step,
+                part,
+                label,
+                position,
+                line,
+            }),
+            None => {
+                let hint = did_you_mean(part_name, model.parts.iter().map(|p| p.name.as_str()));
+                let shown = e.name().unwrap_or("(no name)");
+                skipped.push(Skipped {
+                    line: line_of(e.label_span.0),
+                    start: e.label_span.0,
+                    end: e.label_span.1,
+                    message: format!(
+                        "point D {} `{shown}` names no part of the model (IGES points are named `<part>.<landmark>`, or labelled with the part); it was left out{}",
+                        e.de,
+                        hint.map(|h| format!(" ({h})")).unwrap_or_default()
+                    ),
+                });
+            }
+        }
+    }
+    (obs, skipped)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,8 +1,10 @@
 //! Readers of measured and tabulated data files (`interfaces.md`, "Measured data
-//! files"): comma-separated text with a header row and `#` comment lines. Each
-//! reader is a pure function of the text and a file id; `cli/` reads the file.
+//! files"): comma-separated text with a header row and `#` comment lines, and
+//! IGES files from a measuring arm (`iges`). Each reader is a pure function of
+//! the text; `cli/` reads the file.
 
 pub mod csv_error;
+pub mod iges;
 pub mod landmarks;
 pub mod loads;
 pub mod table;

@@ -117,6 +117,18 @@ pub fn sensitivity(rels: &[Rel], dirs: &[Vec3]) -> Option<Vec3> {
 /// relative to part 1 (the rack, eq. 3.17–3.21): only the components of the
 /// displacement across `u` must vanish.
 pub fn sliding_ball(rels: &[Rel], u: &Vec3, prior: &Vec3, sigma: f64) -> Option<Fit> {
+    sliding_ball_keeping(rels, u, prior, sigma, 0)
+}
+
+/// [`sliding_ball`] with its `drop` least determined directions kept at the
+/// prior's value (`axis` is then the least determined one).
+pub fn sliding_ball_keeping(
+    rels: &[Rel],
+    u: &Vec3,
+    prior: &Vec3,
+    sigma: f64,
+    drop: usize,
+) -> Option<Fit> {
     let u = u.normalize();
     let helper = if u.x.abs() < 0.9 {
         Vec3::x()
@@ -131,7 +143,7 @@ pub fn sliding_ball(rels: &[Rel], u: &Vec3, prior: &Vec3, sigma: f64) -> Option<
         |r| (p * (r.rotation - Mat3::identity()), -(p * r.translation)),
         2,
     );
-    solve(&m, &b, prior, 0, sigma)
+    solve(&m, &b, prior, drop, sigma)
 }
 
 /// Revolute joint: the axis is the right singular vector of the smallest

@@ -6,5 +6,6 @@ pub mod linear;
 pub mod motion;
 pub mod nonlinear;
 pub mod plan;
+pub mod rack;
 pub mod report;
 pub mod simplex;

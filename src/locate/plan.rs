@@ -53,7 +53,7 @@ pub struct Located {
 
 impl Located {
     /// A result not yet located: no centre, unbounded uncertainty.
-    fn new(element: ElementId, name: &str, kind: &str, frame: PartId) -> Located {
+    pub(super) fn new(element: ElementId, name: &str, kind: &str, frame: PartId) -> Located {
         Located {
             element,
             name: name.to_string(),
@@ -254,6 +254,7 @@ pub fn locate_all(model: &Model, steps: &[StepPoses], opt: &Options) -> Vec<Loca
         out.push(verdict(l, &rels, opt));
     }
     out.extend(struts(model, steps, opt));
+    out.extend(super::rack::racks(model, steps, opt));
     out
 }
 
@@ -370,7 +371,7 @@ fn struts(model: &Model, steps: &[StepPoses], opt: &Options) -> Vec<Located> {
 }
 
 /// Decides observability from the uncertainty and the amount of motion.
-fn verdict(mut l: Located, rels: &[super::motion::Rel], opt: &Options) -> Located {
+pub(super) fn verdict(mut l: Located, rels: &[super::motion::Rel], opt: &Options) -> Located {
     let rotation = max_rotation(rels).to_degrees();
     if l.center.is_none() {
         l.observable = false;

@@ -24,10 +24,64 @@ pub struct Entry {
     pub note: String,
 }
 
+/// The pose fit of one part at one step (thesis eq. 2.17–2.25): how well its
+/// matched landmarks fit a rigid motion.
+#[derive(Debug, Clone, Serialize)]
+pub struct PoseEntry {
+    pub rms_mm: f64,
+    /// Distance of each matched landmark from its fitted position, mm.
+    pub residuals_mm: BTreeMap<String, f64>,
+}
+
 #[derive(Debug, Clone, Serialize)]
 pub struct Report {
     pub reference_step: usize,
     pub joints: BTreeMap<String, Entry>,
+    /// Pose fits by step (as text, a JSON key) and part.
+    pub poses: BTreeMap<String, BTreeMap<String, PoseEntry>>,
+}
+
+impl Report {
+    /// The landmark that fits its part's pose worst: (step, part, landmark, mm).
+    pub fn worst_landmark(&self) -> Option<(&str, &str, &str, f64)> {
+        self.poses
+            .iter()
+            .flat_map(|(s, parts)| {
+                parts.iter().flat_map(move |(p, e)| {
+                    e.residuals_mm
+                        .iter()
+                        .map(move |(l, r)| (s.as_str(), p.as_str(), l.as_str(), *r))
+                })
+            })
+            .max_by(|a, b| a.3.total_cmp(&b.3))
+    }
+}
+
+fn poses(model: &Model, steps: &[StepPoses]) -> BTreeMap<String, BTreeMap<String, PoseEntry>> {
+    steps
+        .iter()
+        .map(|s| {
+            let parts = s
+                .parts
+                .iter()
+                .map(|(p, pose)| {
+                    let residuals_mm = pose
+                        .residuals
+                        .iter()
+                        .map(|(l, r)| (model.landmarks[l.index()].name.clone(), *r))
+                        .collect();
+                    (
+                        model.part(*p).name.clone(),
+                        PoseEntry {
+                            rms_mm: pose.rms,
+                            residuals_mm,
+                        },
+                    )
+                })
+                .collect();
+            (s.step.to_string(), parts)
+        })
+        .collect()
 }
 
 fn arr(v: Vec3) -> [f64; 3] {
@@ -62,6 +116,7 @@ pub fn report(model: &Model, steps: &[StepPoses], located: &[Located], reference
     Report {
         reference_step: reference,
         joints,
+        poses: poses(model, steps),
     }
 }
 

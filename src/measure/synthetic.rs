@@ -46,6 +46,38 @@ impl Noise {
     }
 }
 
+/// One measured landmark: part name, landmark name, position.
+type Point = (String, String, Vec3);
+
+/// Measured landmark positions of every case of a load set, in case order:
+/// `(part, landmark, position)`, with noise of standard deviation `sigma` mm
+/// per coordinate drawn in that order (so the CSV and IGES forms of the same
+/// seed carry the same numbers).
+fn measured(
+    model: &Model,
+    set: LoadSetId,
+    sigma: f64,
+    seed: u64,
+) -> Result<Vec<Vec<Point>>, StaticsError> {
+    let eqs = statics::solve_set(model, set)?;
+    let mut noise = Noise::new(seed);
+    Ok(eqs
+        .iter()
+        .map(|eq| {
+            model
+                .landmarks
+                .iter()
+                .map(|l| {
+                    let (t, r) = eq.state.part_pose(l.part);
+                    let x: Vec3 = t + r * values(&l.position);
+                    let x = x.map(|c| c + sigma * noise.normal());
+                    (model.part(l.part).name.clone(), l.name.clone(), x)
+                })
+                .collect()
+        })
+        .collect())
+}
+
 /// Landmark CSV (`step, part, landmark, x, y, z`) of every case of a load set,
 /// steps numbered from 1, with noise of standard deviation `sigma` mm per coordinate.
 pub fn landmarks_csv(
@@ -54,27 +86,51 @@ pub fn landmarks_csv(
     sigma: f64,
     seed: u64,
 ) -> Result<String, StaticsError> {
-    let eqs = statics::solve_set(model, set)?;
-    let mut noise = Noise::new(seed);
     let mut out = String::from("step,part,landmark,x,y,z\n");
-    for (k, eq) in eqs.iter().enumerate() {
-        for l in &model.landmarks {
-            let (t, r) = eq.state.part_pose(l.part);
-            let x: Vec3 = t + r * values(&l.position);
-            let x = x.map(|c| c + sigma * noise.normal());
-            let _ = writeln!(
-                out,
-                "{},{},{},{},{},{}",
-                k + 1,
-                model.part(l.part).name,
-                l.name,
-                x.x,
-                x.y,
-                x.z
-            );
+    for (k, step) in measured(model, set, sigma, seed)?.iter().enumerate() {
+        for (part, name, x) in step {
+            let _ = writeln!(out, "{},{part},{name},{},{},{}", k + 1, x.x, x.y, x.z);
         }
     }
     Ok(out)
+}
+
+/// The same measurements as [`landmarks_csv`] (same seed, same numbers) as
+/// IGES files, one per case, the way a measuring arm saves each state: points
+/// labelled with their part (8 characters) and subscript, named
+/// `<part>.<landmark>` by a Name property.
+pub fn landmarks_iges(
+    model: &Model,
+    set: LoadSetId,
+    sigma: f64,
+    seed: u64,
+) -> Result<Vec<String>, StaticsError> {
+    use crate::data::iges::{Geometry, Item, write};
+    let set_name = &model.load_sets[set.index()].name;
+    Ok(measured(model, set, sigma, seed)?
+        .into_iter()
+        .enumerate()
+        .map(|(k, step)| {
+            let items: Vec<Item> = step
+                .into_iter()
+                .enumerate()
+                .map(|(i, (part, name, x))| Item {
+                    name: format!("{part}.{name}"),
+                    label: part.chars().take(8).collect(),
+                    subscript: i as i64 + 1,
+                    geometry: Geometry::Point(x),
+                })
+                .collect();
+            write(
+                &format!("{set_name}_{}.igs", k + 1),
+                &format!(
+                    "axle synthetic landmarks, load set {set_name}, case {}",
+                    k + 1
+                ),
+                &items,
+            )
+        })
+        .collect())
 }
 
 #[cfg(test)]
