@@ -19,6 +19,9 @@ const BUSHING_GAP_LIMIT: f64 = 0.01;
 impl Checker {
     pub(super) fn geometry(&mut self) {
         for (n, j) in self.model.joints.iter().enumerate() {
+            if self.bad_markers.contains(&j.i) || self.bad_markers.contains(&j.j) {
+                continue;
+            }
             let (mi, mj) = (self.model.marker(j.i), self.model.marker(j.j));
             let d = mi.origin() - mj.origin();
             let span = self.span_of(ElementId::Joint(JointId(n as u32)));
@@ -53,12 +56,16 @@ impl Checker {
                         let angle = residual.clamp(-1.0, 1.0).acos().to_degrees();
                         Diagnostic::error("E0304", format!("the axes of universal joint `{}` are not perpendicular", j.name))
                             .primary(span, format!("z axes of I and J are {angle:.3}° apart, not 90°"))
+                            .secondary_opt(self.model.origins.get(ElementId::Marker(j.i)), "I marker")
+                            .secondary_opt(self.model.origins.get(ElementId::Marker(j.j)), "J marker")
                             .hint("a universal joint's two spin axes (the z axes of I and J) must be perpendicular")
                     }
                     Primitive::Perpendicular(a, b) => {
                         let names = ["x", "y", "z"];
                         Diagnostic::error("E0305", format!("the marker axes of {} joint `{}` are not aligned at the design configuration", j.kind.keyword(), j.name))
                             .primary(span, format!("{}_I · {}_J = {residual:.4}, should be 0", names[a.index()], names[b.index()]))
+                            .secondary_opt(self.model.origins.get(ElementId::Marker(j.i)), "I marker")
+                            .secondary_opt(self.model.origins.get(ElementId::Marker(j.j)), "J marker")
                             .hint("give both markers the same orientation (for a revolute or cylindrical joint, the same z axis)")
                     }
                 };
@@ -74,6 +81,9 @@ impl Checker {
     /// marker orientation mistake.
     fn bushing_alignment(&mut self) {
         for (n, b) in self.model.bushings.iter().enumerate() {
+            if self.bad_markers.contains(&b.i) || self.bad_markers.contains(&b.j) {
+                continue;
+            }
             let span = self.span_of(ElementId::Bushing(crate::model::BushingId(n as u32)));
             let gap = (self.model.marker(b.i).origin() - self.model.marker(b.j).origin()).norm();
             if gap > BUSHING_GAP_LIMIT {
@@ -125,10 +135,15 @@ impl Checker {
                 if w[1].0 - w[0].0 < LANDMARK_DISTANCE_TOL {
                     let name = |i: usize| self.model.landmarks[i].name.clone();
                     let span = |i: usize| self.span_of(ElementId::Landmark(LandmarkId(i as u32)));
+                    // Label each distance at a landmark of its pair, two different
+                    // landmarks where the pairs allow it (m1–m2 at m2, m1–m3 at m3).
+                    let (a, b) = (w[1], w[0]);
+                    let at_a = a.2;
+                    let at_b = if b.2 != at_a { b.2 } else { b.1 };
                     diags.push(
                         Diagnostic::warning("W0306", format!("landmarks of part `{}` cannot be told apart by their distances", self.model.parts[part].name))
-                            .primary(span(w[1].1), format!("{}–{} is {:.2} mm", name(w[1].1), name(w[1].2), w[1].0))
-                            .secondary(span(w[0].1), format!("{}–{} is {:.2} mm", name(w[0].1), name(w[0].2), w[0].0))
+                            .primary(span(at_a), format!("{}–{} is {:.2} mm", name(a.1), name(a.2), a.0))
+                            .secondary(span(at_b), format!("{}–{} is {:.2} mm", name(b.1), name(b.2), b.0))
                             .note(format!("measured points are matched to landmarks by their pairwise distances; two distances closer than {LANDMARK_DISTANCE_TOL} mm make the match ambiguous"))
                             .hint("move one landmark so that all pairwise distances differ by more than 1 mm"),
                     );

@@ -117,6 +117,13 @@ impl Checker {
                             c.span,
                             self.model.wheels.iter().map(|w| w.name.as_str()),
                         );
+                        if self.model.wheels.is_empty() {
+                            d = d.note("the model has no wheel: declare one with `wheel NAME { ... }` and its `centre` and `contact` markers, or load a marker with `PART.MARKER.fz`");
+                        } else if suggest_none(w, &self.model.wheels) {
+                            let names: Vec<&str> =
+                                self.model.wheels.iter().map(|w| w.name.as_str()).collect();
+                            d = d.note(format!("wheels: {}", names.join(", ")));
+                        }
                         if self.model.part_named(w).is_some() {
                             d = d.note(format!(
                                 "`{w}` is a part; to load a marker write `{w}.MARKER.{comp_name}`"
@@ -383,6 +390,7 @@ impl Checker {
             return None;
         };
         let mut values = vec![waypoints[0]];
+        let dim = Self::component_dim(channels[idx].component);
         for w in waypoints.windows(2) {
             let n = ((w[1] - w[0]).abs() / step).round();
             if ((w[1] - w[0]).abs() - n * step).abs() > 1e-9 * step.max(w[1].abs()) || n < 1.0 {
@@ -392,7 +400,15 @@ impl Checker {
                         "a waypoint is not a whole number of steps from the previous one",
                     )
                     .primary(span, "the steps do not land on every waypoint")
-                    .note(format!("from {} to {} by {}", w[0], w[1], step)),
+                    .note({
+                        let (f, u) = (dim.boundary_factor(), dim.boundary_unit());
+                        format!(
+                            "from {} {u} to {} {u} by {} {u}",
+                            w[0] / f,
+                            w[1] / f,
+                            step / f
+                        )
+                    }),
                 );
                 return None;
             }
@@ -440,4 +456,9 @@ fn bad_sweep(span: Span) -> Diagnostic {
     )
     .primary(span, "too many steps")
     .hint("check the step and its unit")
+}
+
+/// No wheel name is close enough to `name` for a "did you mean".
+fn suggest_none(name: &str, wheels: &[Wheel]) -> bool {
+    crate::diagnostic::suggest::best(name, wheels.iter().map(|w| w.name.as_str())).is_none()
 }

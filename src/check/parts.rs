@@ -91,14 +91,17 @@ impl Checker {
         let frame = self.orientation(m);
         // A marker whose values failed still exists for later references (the
         // error already prevents a model), so they are not reported as unknown.
+        let id = MarkerId(self.model.markers.len() as u32);
         let (position, (orientation, rotation)) = match (position, frame) {
             (Some(p), Some(f)) => (p, f),
-            (p, f) => (
-                p.unwrap_or([Val::ZERO; 3]),
-                f.unwrap_or((Orientation::Identity, Mat3::identity())),
-            ),
+            (p, f) => {
+                self.bad_markers.insert(id);
+                (
+                    p.unwrap_or([Val::ZERO; 3]),
+                    f.unwrap_or((Orientation::Identity, Mat3::identity())),
+                )
+            }
         };
-        let id = MarkerId(self.model.markers.len() as u32);
         self.model
             .origins
             .insert(ElementId::Marker(id), m.name.span);
