@@ -312,6 +312,17 @@ impl Checker {
 
     fn wheel(&mut self, e: &ElementDecl) {
         let props = self.props("wheel", e, WHEEL_PROPS);
+        if let (Some(a), Some(b)) = (props.get("centre"), props.get("center")) {
+            let (first, second) = if a.key.span.start < b.key.span.start {
+                (a, b)
+            } else {
+                (b, a)
+            };
+            self.problems.push(
+                error::duplicate_property("centre", second.key.span, first.key.span)
+                    .hint("`centre` and `center` are one property; keep one"),
+            );
+        }
         let centre_key = if props.has("center") && !props.has("centre") {
             "center"
         } else {

@@ -13,6 +13,9 @@ const ANGLE_TOL: f64 = 1e-4;
 const LANDMARK_DISTANCE_TOL: f64 = 1.0;
 /// Validity limit of the bushing's projected angles, deg.
 const BUSHING_ANGLE_LIMIT: f64 = 15.0;
+/// A wheel spin axis tilted further than this from the horizontal is written
+/// wrongly, not cambered (deg).
+const WHEEL_CAMBER_LIMIT: f64 = 45.0;
 /// A bushing whose markers are further apart than this at design starts loaded (mm).
 const BUSHING_GAP_LIMIT: f64 = 0.01;
 
@@ -73,7 +76,97 @@ impl Checker {
             }
         }
         self.bushing_alignment();
+        self.line_elements();
+        self.wheel_axes();
         self.landmark_tables();
+    }
+
+    /// Springs and stops act along the line from J to I: two markers at one
+    /// point leave it undefined (the solver could not even start).
+    fn line_elements(&mut self) {
+        let springs = self.model.springs.iter().enumerate().map(|(n, s)| {
+            (
+                "spring",
+                &s.name,
+                s.i,
+                s.j,
+                ElementId::Spring(crate::model::SpringId(n as u32)),
+            )
+        });
+        let stops = self.model.stops.iter().enumerate().map(|(n, s)| {
+            (
+                "stop",
+                &s.name,
+                s.i,
+                s.j,
+                ElementId::Stop(crate::model::StopId(n as u32)),
+            )
+        });
+        let mut diags = Vec::new();
+        for (what, name, i, j, id) in springs.chain(stops) {
+            if self.bad_markers.contains(&i) || self.bad_markers.contains(&j) {
+                continue;
+            }
+            let gap = (self.model.marker(i).origin() - self.model.marker(j).origin()).norm();
+            if gap < POSITION_TOL {
+                diags.push(
+                    Diagnostic::error("E0309", format!("the markers of {what} `{name}` are at one point"))
+                        .primary(self.span_of(id), format!("`{}` and `{}` coincide", self.model.marker_path(i), self.model.marker_path(j)))
+                        .secondary_opt(self.model.origins.get(ElementId::Marker(i)), "I marker")
+                        .secondary_opt(self.model.origins.get(ElementId::Marker(j)), "J marker")
+                        .note(format!("a {what} acts along the line between its two markers, which two coincident points do not define"))
+                        .hint("put I and J at the two seats, e.g. the spring's upper and lower seats"),
+                );
+            }
+        }
+        self.problems.list.extend(diags);
+    }
+
+    /// A wheel centre's z axis is the spin axis pointing outboard (conventions.md):
+    /// one pointing inboard or up turns toe and camber by about 180° or 90°.
+    fn wheel_axes(&mut self) {
+        let mut diags = Vec::new();
+        for (n, w) in self.model.wheels.iter().enumerate() {
+            if self.bad_markers.contains(&w.centre) {
+                continue;
+            }
+            let c = self.model.marker(w.centre);
+            let s = c.rotation.column(2);
+            let side = c.origin().y;
+            // A wheel on the centre plane has no inboard side to check against.
+            if side.abs() < POSITION_TOL {
+                continue;
+            }
+            let outboard = s.y * side.signum();
+            let camber = (-s.z).clamp(-1.0, 1.0).asin().to_degrees();
+            if outboard > 0.0 && camber.abs() < WHEEL_CAMBER_LIMIT {
+                continue;
+            }
+            let (left, want) = if side > 0.0 {
+                ("left", "+y")
+            } else {
+                ("right", "-y")
+            };
+            diags.push(
+                Diagnostic::warning("W0310", format!("the spin axis of wheel `{}` does not point outboard", w.name))
+                    .primary(self.span_of(ElementId::Wheel(crate::model::WheelId(n as u32))), format!("z of `{}` is ({:.3}, {:.3}, {:.3})", self.model.marker_path(w.centre), s.x, s.y, s.z))
+                    .secondary_opt(self.model.origins.get(ElementId::Marker(w.centre)), "the centre marker")
+                    .note(format!(
+                        "a {left} wheel (centre y = {side:.1} mm) spins about an axis near {want}; toe and camber are measured from the centre marker's z axis, {}",
+                        if camber.abs() >= WHEEL_CAMBER_LIMIT {
+                            format!("so camber would read {camber:.0}°")
+                        } else {
+                            "which points inboard here, so toe would read about 180° off".to_string()
+                        }
+                    ))
+                    .hint(if side > 0.0 {
+                        "write the centre marker with `euler (180, 90, 0) deg` or `z (0, 1, 0)` (a left wheel)"
+                    } else {
+                        "write the centre marker with `euler (0, 90, 0) deg` or `z (0, -1, 0)` (a right wheel)"
+                    }),
+            );
+        }
+        self.problems.list.extend(diags);
     }
 
     /// Projected angles are meaningful while |ax|, |ay| stay under ~15°

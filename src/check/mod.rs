@@ -283,3 +283,6 @@ impl Checker {
         self.model.origins.get(id).unwrap_or(self.file_span)
     }
 }
+
+#[cfg(test)]
+mod tests;
