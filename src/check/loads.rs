@@ -15,6 +15,23 @@ const MAX_SWEEP_STEPS: usize = 100_000;
 impl Checker {
     pub(super) fn loads(&mut self, ast: &File, imports: Vec<(Ident, Model)>) {
         for (import, m) in imports {
+            // A module's wheel loads go to the model's only wheel: with none or
+            // several, say so once for the import, not once per set.
+            let wheel_sets: Vec<&str> = m
+                .load_sets
+                .iter()
+                .filter(|s| {
+                    s.channels
+                        .iter()
+                        .any(|c| c.target == LoadTarget::DefaultWheel)
+                })
+                .map(|s| s.name.as_str())
+                .collect();
+            if !self.library && !wheel_sets.is_empty() && self.model.wheels.len() != 1 {
+                self.problems
+                    .push(self.imported_wheel_loads(&import, &wheel_sets));
+                continue;
+            }
             for set in m.load_sets {
                 self.add_imported_set(&import, set);
             }
@@ -52,6 +69,38 @@ impl Checker {
             .insert(ElementId::LoadSet(id), import.span);
         self.model.imported_load_sets.push(id);
         self.model.load_sets.push(set);
+    }
+
+    fn imported_wheel_loads(&self, import: &Ident, sets: &[&str]) -> Diagnostic {
+        let wheels: Vec<String> = self
+            .model
+            .wheels
+            .iter()
+            .map(|w| format!("`{}`", w.name))
+            .collect();
+        let (code, found) = if wheels.is_empty() {
+            ("E0501", "the model has no wheel".to_string())
+        } else {
+            (
+                "E0502",
+                format!(
+                    "the model has {} wheels: {}",
+                    wheels.len(),
+                    wheels.join(", ")
+                ),
+            )
+        };
+        Diagnostic::error(
+            code,
+            format!("module `{}` loads the model's only wheel, but {found}", import.name),
+        )
+        .primary(import.span, "imported here")
+        .note(format!("its wheel-load sets: {}", sets.join(", ")))
+        .hint(if wheels.is_empty() {
+            "declare the wheel (`wheel NAME { ... }` with `centre` and `contact` markers)".to_string()
+        } else {
+            "stdlib sets are written for a half axle with one wheel; write your own sets naming the wheel, e.g. `left.fz`".to_string()
+        })
     }
 
     /// The model's only wheel, for channels written without a wheel name.
