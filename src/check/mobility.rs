@@ -8,8 +8,41 @@ use crate::model::{ElementId, JointId};
 use crate::statics::mobility::{Mobility, Motion};
 
 impl Checker {
+    /// Moving parts that no joint, bushing, spring or stop touches: said plainly,
+    /// instead of as six free motions.
+    fn unconnected_parts(&mut self) -> Vec<crate::model::PartId> {
+        let md = &self.model;
+        let mut touched: Vec<crate::model::PartId> = Vec::new();
+        let pairs = md
+            .joints
+            .iter()
+            .map(|j| (j.i, j.j))
+            .chain(md.bushings.iter().map(|b| (b.i, b.j)))
+            .chain(md.springs.iter().map(|s| (s.i, s.j)))
+            .chain(md.stops.iter().map(|s| (s.i, s.j)));
+        for (i, j) in pairs {
+            touched.push(md.marker(i).part);
+            touched.push(md.marker(j).part);
+        }
+        let lonely: Vec<crate::model::PartId> =
+            md.moving_parts().filter(|p| !touched.contains(p)).collect();
+        for &p in &lonely {
+            let d = Diagnostic::error(
+                "E0411",
+                format!("part `{}` is connected to nothing", self.model.part(p).name),
+            )
+            .primary(self.span_of(ElementId::Part(p)), "no joint, bushing, spring or stop attaches to this part")
+            .note("a moving part needs joints or force elements that hold it in all six directions")
+            .hint("connect it with a joint or a bushing, or make it part of the `ground` if it is fixed");
+            self.problems.push(d);
+        }
+        lonely
+    }
+
     pub(super) fn mobility(&mut self) {
-        let m = crate::statics::mobility(&self.model);
+        let lonely = self.unconnected_parts();
+        let mut m = crate::statics::mobility(&self.model);
+        m.unrestrained.retain(|mo| !lonely.contains(&mo.part));
         let counts = counts(&m);
         if !m.redundant.is_empty() {
             let mut joints: Vec<JointId> = m
@@ -55,15 +88,48 @@ impl Checker {
             d = d.note(counts.clone()).hint("axle solves with the redundant equations left out; their reactions are not unique (a closed planar loop of revolutes is overconstrained in 3-D)");
             self.problems.push(d);
         }
+        // One error per part, listing all of its free motions (a part held by
+        // nothing has six).
+        let mut parts: Vec<crate::model::PartId> = Vec::new();
         for mo in &m.unrestrained {
-            let d = Diagnostic::error("E0601", format!("part `{}` can move with nothing to resist it", self.model.part(mo.part).name))
-                .primary(self.span_of(ElementId::Part(mo.part)), format!("free: {}", words(mo)))
-                .note(counts.clone())
-                .hint(if mo.rotation {
-                    "add a stiffness about that axis (a bushing), or a joint that holds it (e.g. a universal instead of a spherical joint at one end)"
-                } else {
-                    "add a joint or a force element that holds this translation"
-                });
+            if !parts.contains(&mo.part) {
+                parts.push(mo.part);
+            }
+        }
+        for part in parts {
+            let mut motions: Vec<&Motion> =
+                m.unrestrained.iter().filter(|mo| mo.part == part).collect();
+            // Basis motions of several free parts can read alike; say each once.
+            let mut seen = Vec::new();
+            motions.retain(|mo| {
+                let new = !seen.contains(&mo.words);
+                seen.push(mo.words.clone());
+                new
+            });
+            let first = motions[0];
+            let name = &self.model.part(part).name;
+            let title = if motions.len() == 1 {
+                format!("part `{name}` can move with nothing to resist it")
+            } else {
+                format!(
+                    "part `{name}` can move with nothing to resist it, in {} ways",
+                    motions.len()
+                )
+            };
+            let mut d = Diagnostic::error("E0601", title).primary(
+                self.span_of(ElementId::Part(part)),
+                format!("free: {}", words(first)),
+            );
+            for mo in &motions[1..] {
+                d = d.note(format!("also free: {}", words(mo)));
+            }
+            let d = d.note(counts.clone()).hint(if motions.len() == 6 {
+                "nothing holds this part: connect it with a joint or a bushing"
+            } else if motions.iter().any(|mo| mo.rotation) {
+                "add a stiffness about that axis (a bushing), or a joint that holds it (e.g. a universal instead of a spherical joint at one end)"
+            } else {
+                "add a joint or a force element that holds this translation"
+            });
             self.problems.push(d);
         }
         for mo in &m.unstable {
