@@ -41,11 +41,13 @@ pub fn check_str(name: &str, text: &str) -> (SourceMap, Checked) {
 
 fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize) -> Checked {
     let text = sources.text(file).to_string();
-    let ast = match crate::syntax::parse(file, &text) {
+    let ast = match crate::syntax::parse_collecting(file, &text) {
         Ok(ast) => ast,
-        Err(d) => {
+        Err(ds) => {
             let mut problems = Problems::default();
-            problems.push(d);
+            for d in ds {
+                problems.push(d);
+            }
             return Checked {
                 model: None,
                 problems,
