@@ -118,4 +118,12 @@ mod tests {
     fn a_clean_file_parses() {
         assert!(parse_collecting(FileId(0), "model m\n").is_ok());
     }
+
+    #[test]
+    fn windows_files_parse() {
+        // A byte-order mark and CRLF line ends, as some Windows editors save.
+        let text = "\u{feff}model m\r\nground g {\r\n    marker o at (0, 0, 0) mm\r\n}\r\n";
+        let ast = parse(FileId(0), text).expect("parses");
+        assert_eq!(ast.items.len(), 2);
+    }
 }
