@@ -55,7 +55,7 @@ fn describe(rule: Rule) -> Option<&'static str> {
 
 fn token_words(token: &str) -> Option<String> {
     match token {
-        " " | "\t" | "//" | "_" => None,
+        " " | "\t" | "\u{feff}" | "//" | "_" => None,
         "\n" | "\r\n" | "\r" => Some("the end of the line".into()),
         "+" | "-" | "*" | "/" => Some("an operator".into()),
         // Parts of numbers and units, character ranges and built-in rules: noise here.
