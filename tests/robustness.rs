@@ -184,3 +184,24 @@ fn formatter_normalises_layout_and_keeps_comments() {
     assert_eq!(out, expected);
     exercise(messy);
 }
+
+/// Extreme numbers and unit powers (found by hand: `mm^100*mm^100` overflowed
+/// the dimension exponents) give diagnostics, never a panic.
+#[test]
+fn extreme_powers_and_numbers_never_panic() {
+    for value in [
+        "(0, 0, 0) mm^100*mm^100",
+        "(0, 0, 0) mm^999",
+        "(0, 0, 0) mm^-128/mm^127",
+        "(((1 mm^9)^9)^9, 0, 0) mm",
+        "((1 mm^-9)^9 / (1 mm^9)^9, 0, 0) mm",
+        "(1e308 * 1e308, 0, 0) mm",
+        "(1e999, 0, 0) mm",
+        "(sqrt((1 mm^9)^9), 0, 0) mm",
+    ] {
+        let src = format!("ground g {{\n    marker o at {value}\n}}\n");
+        let (_, checked) = check_str("extreme.axle", &src);
+        assert!(checked.problems.has_errors(), "{value} was accepted");
+        exercise(&src);
+    }
+}
