@@ -78,6 +78,13 @@ const TOKENS: &[&str] = &[
     "\u{e9}",
     "\t",
     "0.",
+    // Large powers and magnitudes (dimension exponents once overflowed).
+    "mm^99",
+    "^-128",
+    "100",
+    "1e308",
+    "\u{feff}",
+    "\r\n",
 ];
 
 fn token_soup() -> impl Strategy<Value = String> {
