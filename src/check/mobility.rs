@@ -90,22 +90,7 @@ impl Checker {
         }
         // One error per part, listing all of its free motions (a part held by
         // nothing has six).
-        let mut parts: Vec<crate::model::PartId> = Vec::new();
-        for mo in &m.unrestrained {
-            if !parts.contains(&mo.part) {
-                parts.push(mo.part);
-            }
-        }
-        for part in parts {
-            let mut motions: Vec<&Motion> =
-                m.unrestrained.iter().filter(|mo| mo.part == part).collect();
-            // Basis motions of several free parts can read alike; say each once.
-            let mut seen = Vec::new();
-            motions.retain(|mo| {
-                let new = !seen.contains(&mo.words);
-                seen.push(mo.words.clone());
-                new
-            });
+        for (part, motions) in by_part(&m.unrestrained) {
             let first = motions[0];
             let name = &self.model.part(part).name;
             let title = if motions.len() == 1 {
@@ -132,21 +117,56 @@ impl Checker {
             });
             self.problems.push(d);
         }
-        for mo in &m.unstable {
-            let d = Diagnostic::warning("W0603", format!("part `{}` is unstable at the design configuration", self.model.part(mo.part).name))
-                .primary(self.span_of(ElementId::Part(mo.part)), format!("negative stiffness: {}", words(mo)))
-                .note(format!("along this motion the loads built into the design state (a compressed spring, a bushing written deformed) outweigh the stiffness: {:.1e} of the stiffest mode", mo.ratio))
-                .hint("the solver may run away from the design state; check spring free lengths and preloads against the stiffnesses that hold the parts");
+        for (part, motions) in by_part(&m.unstable) {
+            let mut d = Diagnostic::warning("W0603", format!("part `{}` is unstable at the design configuration", self.model.part(part).name))
+                .primary(self.span_of(ElementId::Part(part)), format!("negative stiffness: {}", words(motions[0])))
+                .note(format!("along this motion the loads built into the design state (a compressed spring, a bushing written deformed) outweigh the stiffness: {:.1e} of the stiffest mode", motions[0].ratio));
+            for mo in &motions[1..] {
+                d = d.note(format!("also negative: {} ({:.1e})", words(mo), mo.ratio));
+            }
+            let d = d.hint("the solver may run away from the design state; check spring free lengths and preloads against the stiffnesses that hold the parts");
             self.problems.push(d);
         }
-        for mo in &m.nearly_unrestrained {
-            let d = Diagnostic::warning("W0602", format!("part `{}` is nearly unrestrained", self.model.part(mo.part).name))
-                .primary(self.span_of(ElementId::Part(mo.part)), format!("soft: {}", words(mo)))
-                .note(format!("this motion's stiffness is {:.1e} of the stiffest mode's", mo.ratio))
-                .hint("under load the solver may land on an unstable equilibrium; add stiffness to this motion (for a strut, the top mount's kt_z)");
+        for (part, motions) in by_part(&m.nearly_unrestrained) {
+            let mut d = Diagnostic::warning(
+                "W0602",
+                format!(
+                    "part `{}` is nearly unrestrained",
+                    self.model.part(part).name
+                ),
+            )
+            .primary(
+                self.span_of(ElementId::Part(part)),
+                format!("soft: {}", words(motions[0])),
+            )
+            .note(format!(
+                "this motion's stiffness is {:.1e} of the stiffest mode's",
+                motions[0].ratio
+            ));
+            for mo in &motions[1..] {
+                d = d.note(format!("also soft: {} ({:.1e})", words(mo), mo.ratio));
+            }
+            let d = d.hint("under load the solver may land on an unstable equilibrium; add stiffness to this motion (for a strut, the top mount's kt_z)");
             self.problems.push(d);
         }
     }
+}
+
+/// Motions grouped by the part that moves most, parts in order of first mention,
+/// each motion described once.
+fn by_part(motions: &[Motion]) -> Vec<(crate::model::PartId, Vec<&Motion>)> {
+    let mut out: Vec<(crate::model::PartId, Vec<&Motion>)> = Vec::new();
+    for mo in motions {
+        match out.iter_mut().find(|(p, _)| *p == mo.part) {
+            Some((_, list)) => {
+                if !list.iter().any(|x| x.words == mo.words) {
+                    list.push(mo);
+                }
+            }
+            None => out.push((mo.part, vec![mo])),
+        }
+    }
+    out
 }
 
 fn words(m: &Motion) -> String {
