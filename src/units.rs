@@ -46,13 +46,15 @@ impl Dim {
         }
     }
 
+    // Saturating: absurd powers written by a user (`mm^100*mm^100`) must give a
+    // wrong-dimension diagnostic, not an overflow panic.
     pub fn mul(self, o: Dim) -> Dim {
         Dim {
-            length: self.length + o.length,
-            force: self.force + o.force,
-            angle: self.angle + o.angle,
-            mass: self.mass + o.mass,
-            time: self.time + o.time,
+            length: self.length.saturating_add(o.length),
+            force: self.force.saturating_add(o.force),
+            angle: self.angle.saturating_add(o.angle),
+            mass: self.mass.saturating_add(o.mass),
+            time: self.time.saturating_add(o.time),
         }
     }
 
@@ -62,11 +64,11 @@ impl Dim {
 
     pub fn powi(self, n: i8) -> Dim {
         Dim {
-            length: self.length * n,
-            force: self.force * n,
-            angle: self.angle * n,
-            mass: self.mass * n,
-            time: self.time * n,
+            length: self.length.saturating_mul(n),
+            force: self.force.saturating_mul(n),
+            angle: self.angle.saturating_mul(n),
+            mass: self.mass.saturating_mul(n),
+            time: self.time.saturating_mul(n),
         }
     }
 
@@ -75,7 +77,11 @@ impl Dim {
         let mut num = Vec::new();
         let mut den = Vec::new();
         let mut put = |name: &str, e: i8| {
-            let (list, e) = if e > 0 { (&mut num, e) } else { (&mut den, -e) };
+            let (list, e) = if e > 0 {
+                (&mut num, e.unsigned_abs())
+            } else {
+                (&mut den, e.unsigned_abs())
+            };
             if e == 1 {
                 list.push(name.to_string());
             } else if e > 1 {

@@ -43,6 +43,34 @@ fn check_reports_every_error_with_exit_1() {
 }
 
 #[test]
+fn one_run_reports_errors_of_every_stage() {
+    // A unit mistake, a misspelt part and a joint whose markers do not meet: the
+    // geometry is still checked on the elements that were read.
+    let text = "ground chassis {\n    marker o at (0, 0, 0) mm\n}\n\npart arm {\n    marker o at (0, 0, 0) mm\n    marker tip at (300, 0, 0) mm\n}\n\npart link {\n    marker a at (300, 0, 2) mm\n}\n\nbushing b {\n    i chassis.o\n    j arm.o\n    k (1000, 1000, 1000) N*mm\n    kt (1000, 1000, 1000) N*mm/deg\n}\n\nbushing c {\n    i chasis.o\n    j link.a\n    k (1000, 1000, 1000) N/mm\n    kt (1000, 1000, 1000) N*mm/deg\n}\n\njoint ball spherical {\n    i link.a\n    j arm.tip\n}\n";
+    let dir = std::env::temp_dir().join(format!("axle-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("three_mistakes.axle");
+    std::fs::write(&path, text).expect("write");
+    let (code, stdout, _) = axle(&["check", "--format", "json", path.to_str().expect("utf-8")]);
+    std::fs::remove_dir_all(&dir).ok();
+    assert_eq!(code, 1);
+    let v: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON document");
+    let found: Vec<(String, u64)> = v["diagnostics"]
+        .as_array()
+        .expect("a list")
+        .iter()
+        .map(|d| {
+            (
+                d["code"].as_str().unwrap_or("").to_string(),
+                d["line"].as_u64().unwrap_or(0),
+            )
+        })
+        .collect();
+    let want = [("E0201", 17), ("E0101", 22), ("E0303", 28)];
+    assert_eq!(found, want.map(|(c, l)| (c.to_string(), l)), "{stdout}");
+}
+
+#[test]
 fn check_json_lists_diagnostics_with_positions() {
     let (code, stdout, _) = axle(&[
         "check",

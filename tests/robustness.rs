@@ -78,6 +78,13 @@ const TOKENS: &[&str] = &[
     "\u{e9}",
     "\t",
     "0.",
+    // Large powers and magnitudes (dimension exponents once overflowed).
+    "mm^99",
+    "^-128",
+    "100",
+    "1e308",
+    "\u{feff}",
+    "\r\n",
 ];
 
 fn token_soup() -> impl Strategy<Value = String> {
@@ -183,4 +190,25 @@ fn formatter_normalises_layout_and_keeps_comments() {
     let expected = "// head\nmodel m // trailing\n\nground g {\n    marker o at (0, 0, 0) mm // o\n\n    // inside\n    marker p at (1, 2, 3) mm\n}\n\npart p {\n    marker o at (0, 0, 0) mm\n}\n\nbushing b {\n    i g.o\n    j p.o\n    k (1, 2,\n    // odd\n    3) N/mm\n    kt (1, 1, 1) N*mm/deg\n}\n";
     assert_eq!(out, expected);
     exercise(messy);
+}
+
+/// Extreme numbers and unit powers (found by hand: `mm^100*mm^100` overflowed
+/// the dimension exponents) give diagnostics, never a panic.
+#[test]
+fn extreme_powers_and_numbers_never_panic() {
+    for value in [
+        "(0, 0, 0) mm^100*mm^100",
+        "(0, 0, 0) mm^999",
+        "(0, 0, 0) mm^-128/mm^127",
+        "(((1 mm^9)^9)^9, 0, 0) mm",
+        "((1 mm^-9)^9 / (1 mm^9)^9, 0, 0) mm",
+        "(1e308 * 1e308, 0, 0) mm",
+        "(1e999, 0, 0) mm",
+        "(sqrt((1 mm^9)^9), 0, 0) mm",
+    ] {
+        let src = format!("ground g {{\n    marker o at {value}\n}}\n");
+        let (_, checked) = check_str("extreme.axle", &src);
+        assert!(checked.problems.has_errors(), "{value} was accepted");
+        exercise(&src);
+    }
 }

@@ -61,6 +61,16 @@ impl Checker {
         };
         let k3 = vec_or_zero(self, "k3", Dim::new(-3, 1, 0), "(0, 0, 2) N/mm^3");
         let kt3 = vec_or_zero(self, "kt3", Dim::new(1, 1, -3), "(0, 0, 2) N*mm/deg^3");
+        // A negative cubic term softens the law until it turns back (several
+        // equilibria for one load, then none): reported like a negative stiffness.
+        for (key, cubic) in [("k3", &k3), ("kt3", &kt3)] {
+            if let (Some(v), Some(p)) = (cubic, props.get(key)) {
+                for (a, c) in v.iter().enumerate() {
+                    let what = format!("{key} along {}", ["x", "y", "z"][a]);
+                    self.non_negative(*c, &props, &what, p.value.span());
+                }
+            }
+        }
         let offset = vec_or_zero(self, "offset", Dim::LENGTH, "(0, 0, 1.5) mm");
         let angle_offset = vec_or_zero(self, "angle_offset", Dim::ANGLE, "(0, 0, 2) deg");
         let preload = vec_or_zero(self, "preload", Dim::FORCE, "(0, 0, 100) N");

@@ -155,9 +155,10 @@ impl Checker {
                     None
                 }
             };
-            let free_length = props
-                .get("free_length")
-                .map(|p| self.prop_scalar(p, Dim::LENGTH, "290 mm"));
+            let free_length = props.get("free_length").map(|p| {
+                self.prop_scalar(p, Dim::LENGTH, "290 mm")
+                    .and_then(|v| self.positive_length(v, &props, p))
+            });
             let preload = props
                 .get("preload")
                 .map(|p| self.prop_scalar(p, Dim::FORCE, "4800 N"));
@@ -238,7 +239,9 @@ impl Checker {
         };
         let ij = self.ij(&props);
         let contact = match props.get("contact_length") {
-            Some(p) => self.prop_scalar(p, Dim::LENGTH, "120 mm"),
+            Some(p) => self
+                .prop_scalar(p, Dim::LENGTH, "120 mm")
+                .and_then(|v| self.positive_length(v, &props, p)),
             None => {
                 self.problems.push(error::missing_property(
                     "stop",
@@ -278,11 +281,17 @@ impl Checker {
                     |n| Dim::new(-(n as i8) - 1, 1, 0),
                     "[500 N/mm, 20 N/mm^2]",
                 )
-                .map(StopLaw::Polynomial)
+                .map(|c| {
+                    for (n, v) in c.iter().enumerate() {
+                        let what = format!("coefficient {} of `poly`", n + 1);
+                        self.non_negative(*v, &props, &what, p.value.span());
+                    }
+                    StopLaw::Polynomial(c)
+                })
             }),
             _ => props.get("law").and_then(|p| {
-                self.prop_table(p, Dim::LENGTH, Dim::FORCE, true)
-                    .map(StopLaw::Table)
+                let t = self.prop_table(p, Dim::LENGTH, Dim::FORCE, true)?;
+                self.stop_table_start(&t, p).then_some(StopLaw::Table(t))
             }),
         };
         let (Some(kind), Some((i, j)), Some(contact_length), Some(law)) = (kind, ij, contact, law)
@@ -303,6 +312,17 @@ impl Checker {
 
     fn wheel(&mut self, e: &ElementDecl) {
         let props = self.props("wheel", e, WHEEL_PROPS);
+        if let (Some(a), Some(b)) = (props.get("centre"), props.get("center")) {
+            let (first, second) = if a.key.span.start < b.key.span.start {
+                (a, b)
+            } else {
+                (b, a)
+            };
+            self.problems.push(
+                error::duplicate_property("centre", second.key.span, first.key.span)
+                    .hint("`centre` and `center` are one property; keep one"),
+            );
+        }
         let centre_key = if props.has("center") && !props.has("centre") {
             "center"
         } else {

@@ -139,6 +139,18 @@ pub fn negative_stiffness(element: &str, what: &str, span: Span) -> Diagnostic {
         .hint("a stiffness is zero or positive; flip the sign or check the unit")
 }
 
+pub fn length_not_positive(element: &str, key: &str, span: Span) -> Diagnostic {
+    Diagnostic::error("E0212", format!("`{key}` of {element} must be positive"))
+        .primary(span, "a length between two points is positive")
+        .hint("check the sign and the unit (`290 mm`)")
+}
+
+pub fn stop_table_start(span: Span, why: &str) -> Diagnostic {
+    Diagnostic::error("E0213", "a stop's table must start at first contact")
+        .primary(span, why.to_string())
+        .hint("write the force of the penetration from contact on: `law table (mm, N) [(0, 0), (10, 500), (20, 2000)]`")
+}
+
 pub fn table_too_short(span: Span, n: usize) -> Diagnostic {
     Diagnostic::error(
         "E0206",

@@ -13,12 +13,18 @@ const ANGLE_TOL: f64 = 1e-4;
 const LANDMARK_DISTANCE_TOL: f64 = 1.0;
 /// Validity limit of the bushing's projected angles, deg.
 const BUSHING_ANGLE_LIMIT: f64 = 15.0;
+/// A wheel spin axis tilted further than this from the horizontal is written
+/// wrongly, not cambered (deg).
+const WHEEL_CAMBER_LIMIT: f64 = 45.0;
 /// A bushing whose markers are further apart than this at design starts loaded (mm).
 const BUSHING_GAP_LIMIT: f64 = 0.01;
 
 impl Checker {
     pub(super) fn geometry(&mut self) {
         for (n, j) in self.model.joints.iter().enumerate() {
+            if self.bad_markers.contains(&j.i) || self.bad_markers.contains(&j.j) {
+                continue;
+            }
             let (mi, mj) = (self.model.marker(j.i), self.model.marker(j.j));
             let d = mi.origin() - mj.origin();
             let span = self.span_of(ElementId::Joint(JointId(n as u32)));
@@ -53,12 +59,16 @@ impl Checker {
                         let angle = residual.clamp(-1.0, 1.0).acos().to_degrees();
                         Diagnostic::error("E0304", format!("the axes of universal joint `{}` are not perpendicular", j.name))
                             .primary(span, format!("z axes of I and J are {angle:.3}° apart, not 90°"))
+                            .secondary_opt(self.model.origins.get(ElementId::Marker(j.i)), "I marker")
+                            .secondary_opt(self.model.origins.get(ElementId::Marker(j.j)), "J marker")
                             .hint("a universal joint's two spin axes (the z axes of I and J) must be perpendicular")
                     }
                     Primitive::Perpendicular(a, b) => {
                         let names = ["x", "y", "z"];
                         Diagnostic::error("E0305", format!("the marker axes of {} joint `{}` are not aligned at the design configuration", j.kind.keyword(), j.name))
                             .primary(span, format!("{}_I · {}_J = {residual:.4}, should be 0", names[a.index()], names[b.index()]))
+                            .secondary_opt(self.model.origins.get(ElementId::Marker(j.i)), "I marker")
+                            .secondary_opt(self.model.origins.get(ElementId::Marker(j.j)), "J marker")
                             .hint("give both markers the same orientation (for a revolute or cylindrical joint, the same z axis)")
                     }
                 };
@@ -66,7 +76,97 @@ impl Checker {
             }
         }
         self.bushing_alignment();
+        self.line_elements();
+        self.wheel_axes();
         self.landmark_tables();
+    }
+
+    /// Springs and stops act along the line from J to I: two markers at one
+    /// point leave it undefined (the solver could not even start).
+    fn line_elements(&mut self) {
+        let springs = self.model.springs.iter().enumerate().map(|(n, s)| {
+            (
+                "spring",
+                &s.name,
+                s.i,
+                s.j,
+                ElementId::Spring(crate::model::SpringId(n as u32)),
+            )
+        });
+        let stops = self.model.stops.iter().enumerate().map(|(n, s)| {
+            (
+                "stop",
+                &s.name,
+                s.i,
+                s.j,
+                ElementId::Stop(crate::model::StopId(n as u32)),
+            )
+        });
+        let mut diags = Vec::new();
+        for (what, name, i, j, id) in springs.chain(stops) {
+            if self.bad_markers.contains(&i) || self.bad_markers.contains(&j) {
+                continue;
+            }
+            let gap = (self.model.marker(i).origin() - self.model.marker(j).origin()).norm();
+            if gap < POSITION_TOL {
+                diags.push(
+                    Diagnostic::error("E0309", format!("the markers of {what} `{name}` are at one point"))
+                        .primary(self.span_of(id), format!("`{}` and `{}` coincide", self.model.marker_path(i), self.model.marker_path(j)))
+                        .secondary_opt(self.model.origins.get(ElementId::Marker(i)), "I marker")
+                        .secondary_opt(self.model.origins.get(ElementId::Marker(j)), "J marker")
+                        .note(format!("a {what} acts along the line between its two markers, which two coincident points do not define"))
+                        .hint("put I and J at the two seats, e.g. the spring's upper and lower seats"),
+                );
+            }
+        }
+        self.problems.list.extend(diags);
+    }
+
+    /// A wheel centre's z axis is the spin axis pointing outboard (conventions.md):
+    /// one pointing inboard or up turns toe and camber by about 180° or 90°.
+    fn wheel_axes(&mut self) {
+        let mut diags = Vec::new();
+        for (n, w) in self.model.wheels.iter().enumerate() {
+            if self.bad_markers.contains(&w.centre) {
+                continue;
+            }
+            let c = self.model.marker(w.centre);
+            let s = c.rotation.column(2);
+            let side = c.origin().y;
+            // A wheel on the centre plane has no inboard side to check against.
+            if side.abs() < POSITION_TOL {
+                continue;
+            }
+            let outboard = s.y * side.signum();
+            let camber = (-s.z).clamp(-1.0, 1.0).asin().to_degrees();
+            if outboard > 0.0 && camber.abs() < WHEEL_CAMBER_LIMIT {
+                continue;
+            }
+            let (left, want) = if side > 0.0 {
+                ("left", "+y")
+            } else {
+                ("right", "-y")
+            };
+            diags.push(
+                Diagnostic::warning("W0310", format!("the spin axis of wheel `{}` does not point outboard", w.name))
+                    .primary(self.span_of(ElementId::Wheel(crate::model::WheelId(n as u32))), format!("z of `{}` is ({:.3}, {:.3}, {:.3})", self.model.marker_path(w.centre), s.x, s.y, s.z))
+                    .secondary_opt(self.model.origins.get(ElementId::Marker(w.centre)), "the centre marker")
+                    .note(format!(
+                        "a {left} wheel (centre y = {side:.1} mm) spins about an axis near {want}; toe and camber are measured from the centre marker's z axis, {}",
+                        if camber.abs() >= WHEEL_CAMBER_LIMIT {
+                            format!("so camber would read {camber:.0}°")
+                        } else {
+                            "which points inboard here, so toe would read about 180° off".to_string()
+                        }
+                    ))
+                    .hint(if side > 0.0 {
+                        "write the centre marker with `euler (180, 90, 0) deg` or `z (0, 1, 0)` (a left wheel)"
+                    } else {
+                        "write the centre marker with `euler (0, 90, 0) deg` or `z (0, -1, 0)` (a right wheel)"
+                    }),
+            );
+        }
+        self.problems.list.extend(diags);
     }
 
     /// Projected angles are meaningful while |ax|, |ay| stay under ~15°
@@ -74,6 +174,9 @@ impl Checker {
     /// marker orientation mistake.
     fn bushing_alignment(&mut self) {
         for (n, b) in self.model.bushings.iter().enumerate() {
+            if self.bad_markers.contains(&b.i) || self.bad_markers.contains(&b.j) {
+                continue;
+            }
             let span = self.span_of(ElementId::Bushing(crate::model::BushingId(n as u32)));
             let gap = (self.model.marker(b.i).origin() - self.model.marker(b.j).origin()).norm();
             if gap > BUSHING_GAP_LIMIT {
@@ -125,10 +228,15 @@ impl Checker {
                 if w[1].0 - w[0].0 < LANDMARK_DISTANCE_TOL {
                     let name = |i: usize| self.model.landmarks[i].name.clone();
                     let span = |i: usize| self.span_of(ElementId::Landmark(LandmarkId(i as u32)));
+                    // Label each distance at a landmark of its pair, two different
+                    // landmarks where the pairs allow it (m1–m2 at m2, m1–m3 at m3).
+                    let (a, b) = (w[1], w[0]);
+                    let at_a = a.2;
+                    let at_b = if b.2 != at_a { b.2 } else { b.1 };
                     diags.push(
                         Diagnostic::warning("W0306", format!("landmarks of part `{}` cannot be told apart by their distances", self.model.parts[part].name))
-                            .primary(span(w[1].1), format!("{}–{} is {:.2} mm", name(w[1].1), name(w[1].2), w[1].0))
-                            .secondary(span(w[0].1), format!("{}–{} is {:.2} mm", name(w[0].1), name(w[0].2), w[0].0))
+                            .primary(span(at_a), format!("{}–{} is {:.2} mm", name(a.1), name(a.2), a.0))
+                            .secondary(span(at_b), format!("{}–{} is {:.2} mm", name(b.1), name(b.2), b.0))
                             .note(format!("measured points are matched to landmarks by their pairwise distances; two distances closer than {LANDMARK_DISTANCE_TOL} mm make the match ambiguous"))
                             .hint("move one landmark so that all pairwise distances differ by more than 1 mm"),
                     );

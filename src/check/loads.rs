@@ -15,6 +15,23 @@ const MAX_SWEEP_STEPS: usize = 100_000;
 impl Checker {
     pub(super) fn loads(&mut self, ast: &File, imports: Vec<(Ident, Model)>) {
         for (import, m) in imports {
+            // A module's wheel loads go to the model's only wheel: with none or
+            // several, say so once for the import, not once per set.
+            let wheel_sets: Vec<&str> = m
+                .load_sets
+                .iter()
+                .filter(|s| {
+                    s.channels
+                        .iter()
+                        .any(|c| c.target == LoadTarget::DefaultWheel)
+                })
+                .map(|s| s.name.as_str())
+                .collect();
+            if !self.library && !wheel_sets.is_empty() && self.model.wheels.len() != 1 {
+                self.problems
+                    .push(self.imported_wheel_loads(&import, &wheel_sets));
+                continue;
+            }
             for set in m.load_sets {
                 self.add_imported_set(&import, set);
             }
@@ -52,6 +69,38 @@ impl Checker {
             .insert(ElementId::LoadSet(id), import.span);
         self.model.imported_load_sets.push(id);
         self.model.load_sets.push(set);
+    }
+
+    fn imported_wheel_loads(&self, import: &Ident, sets: &[&str]) -> Diagnostic {
+        let wheels: Vec<String> = self
+            .model
+            .wheels
+            .iter()
+            .map(|w| format!("`{}`", w.name))
+            .collect();
+        let (code, found) = if wheels.is_empty() {
+            ("E0501", "the model has no wheel".to_string())
+        } else {
+            (
+                "E0502",
+                format!(
+                    "the model has {} wheels: {}",
+                    wheels.len(),
+                    wheels.join(", ")
+                ),
+            )
+        };
+        Diagnostic::error(
+            code,
+            format!("module `{}` loads the model's only wheel, but {found}", import.name),
+        )
+        .primary(import.span, "imported here")
+        .note(format!("its wheel-load sets: {}", sets.join(", ")))
+        .hint(if wheels.is_empty() {
+            "declare the wheel (`wheel NAME { ... }` with `centre` and `contact` markers)".to_string()
+        } else {
+            "stdlib sets are written for a half axle with one wheel; write your own sets naming the wheel, e.g. `left.fz`".to_string()
+        })
     }
 
     /// The model's only wheel, for channels written without a wheel name.
@@ -117,6 +166,13 @@ impl Checker {
                             c.span,
                             self.model.wheels.iter().map(|w| w.name.as_str()),
                         );
+                        if self.model.wheels.is_empty() {
+                            d = d.note("the model has no wheel: declare one with `wheel NAME { ... }` and its `centre` and `contact` markers, or load a marker with `PART.MARKER.fz`");
+                        } else if suggest_none(w, &self.model.wheels) {
+                            let names: Vec<&str> =
+                                self.model.wheels.iter().map(|w| w.name.as_str()).collect();
+                            d = d.note(format!("wheels: {}", names.join(", ")));
+                        }
                         if self.model.part_named(w).is_some() {
                             d = d.note(format!(
                                 "`{w}` is a part; to load a marker write `{w}.MARKER.{comp_name}`"
@@ -383,6 +439,7 @@ impl Checker {
             return None;
         };
         let mut values = vec![waypoints[0]];
+        let dim = Self::component_dim(channels[idx].component);
         for w in waypoints.windows(2) {
             let n = ((w[1] - w[0]).abs() / step).round();
             if ((w[1] - w[0]).abs() - n * step).abs() > 1e-9 * step.max(w[1].abs()) || n < 1.0 {
@@ -392,7 +449,15 @@ impl Checker {
                         "a waypoint is not a whole number of steps from the previous one",
                     )
                     .primary(span, "the steps do not land on every waypoint")
-                    .note(format!("from {} to {} by {}", w[0], w[1], step)),
+                    .note({
+                        let (f, u) = (dim.boundary_factor(), dim.boundary_unit());
+                        format!(
+                            "from {} {u} to {} {u} by {} {u}",
+                            w[0] / f,
+                            w[1] / f,
+                            step / f
+                        )
+                    }),
                 );
                 return None;
             }
@@ -440,4 +505,9 @@ fn bad_sweep(span: Span) -> Diagnostic {
     )
     .primary(span, "too many steps")
     .hint("check the step and its unit")
+}
+
+/// No wheel name is close enough to `name` for a "did you mean".
+fn suggest_none(name: &str, wheels: &[Wheel]) -> bool {
+    crate::diagnostic::suggest::best(name, wheels.iter().map(|w| w.name.as_str())).is_none()
 }

@@ -8,8 +8,41 @@ use crate::model::{ElementId, JointId};
 use crate::statics::mobility::{Mobility, Motion};
 
 impl Checker {
+    /// Moving parts that no joint, bushing, spring or stop touches: said plainly,
+    /// instead of as six free motions.
+    fn unconnected_parts(&mut self) -> Vec<crate::model::PartId> {
+        let md = &self.model;
+        let mut touched: Vec<crate::model::PartId> = Vec::new();
+        let pairs = md
+            .joints
+            .iter()
+            .map(|j| (j.i, j.j))
+            .chain(md.bushings.iter().map(|b| (b.i, b.j)))
+            .chain(md.springs.iter().map(|s| (s.i, s.j)))
+            .chain(md.stops.iter().map(|s| (s.i, s.j)));
+        for (i, j) in pairs {
+            touched.push(md.marker(i).part);
+            touched.push(md.marker(j).part);
+        }
+        let lonely: Vec<crate::model::PartId> =
+            md.moving_parts().filter(|p| !touched.contains(p)).collect();
+        for &p in &lonely {
+            let d = Diagnostic::error(
+                "E0411",
+                format!("part `{}` is connected to nothing", self.model.part(p).name),
+            )
+            .primary(self.span_of(ElementId::Part(p)), "no joint, bushing, spring or stop attaches to this part")
+            .note("a moving part needs joints or force elements that hold it in all six directions")
+            .hint("connect it with a joint or a bushing, or make it part of the `ground` if it is fixed");
+            self.problems.push(d);
+        }
+        lonely
+    }
+
     pub(super) fn mobility(&mut self) {
-        let m = crate::statics::mobility(&self.model);
+        let lonely = self.unconnected_parts();
+        let mut m = crate::statics::mobility(&self.model);
+        m.unrestrained.retain(|mo| !lonely.contains(&mo.part));
         let counts = counts(&m);
         if !m.redundant.is_empty() {
             let mut joints: Vec<JointId> = m
@@ -55,32 +88,85 @@ impl Checker {
             d = d.note(counts.clone()).hint("axle solves with the redundant equations left out; their reactions are not unique (a closed planar loop of revolutes is overconstrained in 3-D)");
             self.problems.push(d);
         }
-        for mo in &m.unrestrained {
-            let d = Diagnostic::error("E0601", format!("part `{}` can move with nothing to resist it", self.model.part(mo.part).name))
-                .primary(self.span_of(ElementId::Part(mo.part)), format!("free: {}", words(mo)))
-                .note(counts.clone())
-                .hint(if mo.rotation {
-                    "add a stiffness about that axis (a bushing), or a joint that holds it (e.g. a universal instead of a spherical joint at one end)"
-                } else {
-                    "add a joint or a force element that holds this translation"
-                });
+        // One error per part, listing all of its free motions (a part held by
+        // nothing has six).
+        for (part, motions) in by_part(&m.unrestrained) {
+            let first = motions[0];
+            let name = &self.model.part(part).name;
+            let title = if motions.len() == 1 {
+                format!("part `{name}` can move with nothing to resist it")
+            } else {
+                format!(
+                    "part `{name}` can move with nothing to resist it, in {} ways",
+                    motions.len()
+                )
+            };
+            let mut d = Diagnostic::error("E0601", title).primary(
+                self.span_of(ElementId::Part(part)),
+                format!("free: {}", words(first)),
+            );
+            for mo in &motions[1..] {
+                d = d.note(format!("also free: {}", words(mo)));
+            }
+            let d = d.note(counts.clone()).hint(if motions.len() == 6 {
+                "nothing holds this part: connect it with a joint or a bushing"
+            } else if motions.iter().any(|mo| mo.rotation) {
+                "add a stiffness about that axis (a bushing), or a joint that holds it (e.g. a universal instead of a spherical joint at one end)"
+            } else {
+                "add a joint or a force element that holds this translation"
+            });
             self.problems.push(d);
         }
-        for mo in &m.unstable {
-            let d = Diagnostic::warning("W0603", format!("part `{}` is unstable at the design configuration", self.model.part(mo.part).name))
-                .primary(self.span_of(ElementId::Part(mo.part)), format!("negative stiffness: {}", words(mo)))
-                .note(format!("along this motion the loads built into the design state (a compressed spring, a bushing written deformed) outweigh the stiffness: {:.1e} of the stiffest mode", mo.ratio))
-                .hint("the solver may run away from the design state; check spring free lengths and preloads against the stiffnesses that hold the parts");
+        for (part, motions) in by_part(&m.unstable) {
+            let mut d = Diagnostic::warning("W0603", format!("part `{}` is unstable at the design configuration", self.model.part(part).name))
+                .primary(self.span_of(ElementId::Part(part)), format!("negative stiffness: {}", words(motions[0])))
+                .note(format!("along this motion the loads built into the design state (a compressed spring, a bushing written deformed) outweigh the stiffness: {:.1e} of the stiffest mode", motions[0].ratio));
+            for mo in &motions[1..] {
+                d = d.note(format!("also negative: {} ({:.1e})", words(mo), mo.ratio));
+            }
+            let d = d.hint("the solver may run away from the design state; check spring free lengths and preloads against the stiffnesses that hold the parts");
             self.problems.push(d);
         }
-        for mo in &m.nearly_unrestrained {
-            let d = Diagnostic::warning("W0602", format!("part `{}` is nearly unrestrained", self.model.part(mo.part).name))
-                .primary(self.span_of(ElementId::Part(mo.part)), format!("soft: {}", words(mo)))
-                .note(format!("this motion's stiffness is {:.1e} of the stiffest mode's", mo.ratio))
-                .hint("under load the solver may land on an unstable equilibrium; add stiffness to this motion (for a strut, the top mount's kt_z)");
+        for (part, motions) in by_part(&m.nearly_unrestrained) {
+            let mut d = Diagnostic::warning(
+                "W0602",
+                format!(
+                    "part `{}` is nearly unrestrained",
+                    self.model.part(part).name
+                ),
+            )
+            .primary(
+                self.span_of(ElementId::Part(part)),
+                format!("soft: {}", words(motions[0])),
+            )
+            .note(format!(
+                "this motion's stiffness is {:.1e} of the stiffest mode's",
+                motions[0].ratio
+            ));
+            for mo in &motions[1..] {
+                d = d.note(format!("also soft: {} ({:.1e})", words(mo), mo.ratio));
+            }
+            let d = d.hint("under load the solver may land on an unstable equilibrium; add stiffness to this motion (for a strut, the top mount's kt_z)");
             self.problems.push(d);
         }
     }
+}
+
+/// Motions grouped by the part that moves most, parts in order of first mention,
+/// each motion described once.
+fn by_part(motions: &[Motion]) -> Vec<(crate::model::PartId, Vec<&Motion>)> {
+    let mut out: Vec<(crate::model::PartId, Vec<&Motion>)> = Vec::new();
+    for mo in motions {
+        match out.iter_mut().find(|(p, _)| *p == mo.part) {
+            Some((_, list)) => {
+                if !list.iter().any(|x| x.words == mo.words) {
+                    list.push(mo);
+                }
+            }
+            None => out.push((mo.part, vec![mo])),
+        }
+    }
+    out
 }
 
 fn words(m: &Motion) -> String {

@@ -41,11 +41,13 @@ pub fn check_str(name: &str, text: &str) -> (SourceMap, Checked) {
 
 fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize) -> Checked {
     let text = sources.text(file).to_string();
-    let ast = match crate::syntax::parse(file, &text) {
+    let ast = match crate::syntax::parse_collecting(file, &text) {
         Ok(ast) => ast,
-        Err(d) => {
+        Err(ds) => {
             let mut problems = Problems::default();
-            problems.push(d);
+            for d in ds {
+                problems.push(d);
+            }
             return Checked {
                 model: None,
                 problems,
@@ -97,6 +99,16 @@ fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize) -> Checked {
             .iter()
             .any(|i| matches!(i.kind, ItemKind::Part(_))),
         file_span: ast.span,
+        param_decls: ast
+            .items
+            .iter()
+            .filter_map(|i| match &i.kind {
+                ItemKind::Param(p) => Some((p.name.name.clone(), p.name.span)),
+                _ => None,
+            })
+            .collect(),
+        bad_markers: Default::default(),
+        failed_params: Vec::new(),
     };
     checker.run(&ast, imports);
     let Checker {
@@ -113,6 +125,14 @@ pub(crate) struct Checker {
     /// wheel channels stay aimed at the using model's wheel.
     pub(crate) library: bool,
     pub(crate) file_span: Span,
+    /// Every `param` of the file with its name's span, to tell a parameter used
+    /// before its declaration from an unknown one.
+    pub(crate) param_decls: Vec<(String, Span)>,
+    /// Markers whose position or orientation could not be read (an error was
+    /// reported): they stand at the origin, so geometry checks skip them.
+    pub(crate) bad_markers: std::collections::BTreeSet<crate::model::MarkerId>,
+    /// Parameters whose value could not be evaluated (an error was reported).
+    pub(crate) failed_params: Vec<String>,
 }
 
 impl Checker {
@@ -136,9 +156,11 @@ impl Checker {
         self.elements(ast);
         self.loads(ast, imports);
         self.default_loads(default);
-        if !self.library && !self.problems.has_errors() {
+        if !self.library {
+            // Geometry is checked even after other errors (every error of a run is
+            // reported), on the elements whose markers were read without error.
             self.geometry();
-            // Only a geometrically consistent model has a meaningful mobility.
+            // Only a complete, geometrically consistent model has a meaningful mobility.
             if !self.problems.has_errors() {
                 self.mobility();
             }
@@ -156,7 +178,11 @@ impl Checker {
             ));
             return;
         }
-        let Some(q) = self.eval(&p.value) else { return };
+        let Some(q) = self.eval(&p.value) else {
+            // Its error is reported; uses of it would only repeat it as "unknown".
+            self.failed_params.push(p.name.name.clone());
+            return;
+        };
         let unknown = p.unknown.as_ref().map(|u| {
             let mut bounds = crate::model::Bounds::default();
             if let Some((lo, hi)) = &u.bounds {
@@ -198,14 +224,34 @@ impl Checker {
     pub(crate) fn param_id(&mut self, name: &Ident) -> Option<ParamId> {
         match self.model.param_named(&name.name) {
             Some(id) => Some(id),
+            None if self.failed_params.contains(&name.name) => None,
             None => {
-                let d = error::unknown_name(
-                    "parameter",
-                    &name.name,
-                    name.span,
-                    self.model.params.iter().map(|p| p.name.as_str()),
-                )
-                .note("parameters are declared with `param NAME = VALUE` before they are used");
+                let later = self
+                    .param_decls
+                    .iter()
+                    .find(|(n, s)| n == &name.name && s.start > name.span.start);
+                let d = if let Some((_, decl)) = later {
+                    Diagnostic::error(
+                        "E0111",
+                        format!("parameter `{}` is used before its declaration", name.name),
+                    )
+                    .primary(name.span, "used here")
+                    .secondary(*decl, "declared later here")
+                    .hint("move the `param` line above its first use")
+                } else if crate::units::base_unit(&name.name).is_some() {
+                    // `13875 N / mm` reads `mm` as a name: the unit had spaces in it.
+                    error::unknown_name("parameter", &name.name, name.span, [])
+                        .note(format!("`{}` is a unit, but a unit is written right after its number without spaces", name.name))
+                        .hint("write compound units without spaces: `13875 N/mm`, `4000 N*mm/deg`")
+                } else {
+                    error::unknown_name(
+                        "parameter",
+                        &name.name,
+                        name.span,
+                        self.model.params.iter().map(|p| p.name.as_str()),
+                    )
+                    .note("parameters are declared with `param NAME = VALUE` before they are used")
+                };
                 self.problems.push(d);
                 None
             }
@@ -239,3 +285,6 @@ impl Checker {
         self.model.origins.get(id).unwrap_or(self.file_span)
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -91,14 +91,17 @@ impl Checker {
         let frame = self.orientation(m);
         // A marker whose values failed still exists for later references (the
         // error already prevents a model), so they are not reported as unknown.
+        let id = MarkerId(self.model.markers.len() as u32);
         let (position, (orientation, rotation)) = match (position, frame) {
             (Some(p), Some(f)) => (p, f),
-            (p, f) => (
-                p.unwrap_or([Val::ZERO; 3]),
-                f.unwrap_or((Orientation::Identity, Mat3::identity())),
-            ),
+            (p, f) => {
+                self.bad_markers.insert(id);
+                (
+                    p.unwrap_or([Val::ZERO; 3]),
+                    f.unwrap_or((Orientation::Identity, Mat3::identity())),
+                )
+            }
         };
-        let id = MarkerId(self.model.markers.len() as u32);
         self.model
             .origins
             .insert(ElementId::Marker(id), m.name.span);
@@ -170,7 +173,27 @@ impl Checker {
             .filter(|m| m.name == r.marker.name)
             .map(|m| self.model.part(m.part).name.clone())
             .collect();
-        let d = if owners.is_empty() {
+        let is_landmark = self
+            .model
+            .landmarks
+            .iter()
+            .any(|l| l.part == part && l.name == r.marker.name);
+        let d = if is_landmark {
+            error::unknown_name(
+                "marker",
+                &format!("{}.{}", r.part.name, r.marker.name),
+                r.marker.span,
+                [],
+            )
+            .note(format!(
+                "`{}` is a landmark of `{}`: a measured point without axes, which elements and loads cannot attach to",
+                r.marker.name, r.part.name
+            ))
+            .hint(format!(
+                "declare a marker at that point: `marker {} at (x, y, z) mm`",
+                r.marker.name
+            ))
+        } else if owners.is_empty() {
             let names: Vec<&str> = self
                 .model
                 .markers

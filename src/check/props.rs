@@ -245,6 +245,48 @@ impl Checker {
         }
     }
 
+    /// A spring's free length or a stop's contact length: a distance between two
+    /// points, so positive.
+    pub(super) fn positive_length(&mut self, v: Val, props: &Props, p: &Property) -> Option<Val> {
+        if v.value > 0.0 {
+            return Some(v);
+        }
+        let elem = format!("{} `{}`", props.element, props.decl.name.name);
+        self.problems.push(error::length_not_positive(
+            &elem,
+            &p.key.name,
+            p.value.span(),
+        ));
+        None
+    }
+
+    /// A stop's table gives the force of the penetration from first contact on:
+    /// it starts at penetration 0 with a force that does not pull.
+    pub(super) fn stop_table_start(&mut self, t: &Table, p: &Property) -> bool {
+        let Value::Table(lit) = &p.value else {
+            return true;
+        };
+        let (Some(&(x0, y0)), Some(first)) = (t.points.first(), lit.points.first()) else {
+            return true;
+        };
+        if x0 == 0.0 && y0 >= 0.0 {
+            return true;
+        }
+        let (span, why) = if x0 != 0.0 {
+            (
+                first.0.span,
+                "the first penetration must be 0 (first contact)",
+            )
+        } else {
+            (
+                first.1.span,
+                "the force at first contact must not be negative (a stop only pushes)",
+            )
+        };
+        self.problems.push(error::stop_table_start(span, why));
+        false
+    }
+
     /// Reports a negative stiffness.
     pub(super) fn non_negative(
         &mut self,

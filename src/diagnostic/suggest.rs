@@ -1,18 +1,32 @@
 //! "Did you mean" candidates by edit distance.
 
-/// Levenshtein distance between two strings (by characters).
+/// Edit distance between two strings (by characters): insertions, deletions,
+/// substitutions and swaps of two neighbouring characters (`amr` → `arm` is one
+/// edit, the commonest typing slip), i.e. the optimal string alignment distance.
 pub fn distance(a: &str, b: &str) -> usize {
+    let a: Vec<char> = a.chars().collect();
     let b: Vec<char> = b.chars().collect();
-    let mut prev: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut cur = vec![i + 1; b.len() + 1];
-        for (j, cb) in b.iter().enumerate() {
-            let sub = prev[j] + usize::from(ca != *cb);
-            cur[j + 1] = sub.min(prev[j + 1] + 1).min(cur[j] + 1);
-        }
-        prev = cur;
+    // d[i][j]: distance between the first i characters of a and the first j of b.
+    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
     }
-    prev[b.len()]
+    for (j, v) in d[0].iter_mut().enumerate() {
+        *v = j;
+    }
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            let mut v = (d[i - 1][j - 1] + cost)
+                .min(d[i - 1][j] + 1)
+                .min(d[i][j - 1] + 1);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                v = v.min(d[i - 2][j - 2] + 1);
+            }
+            d[i][j] = v;
+        }
+    }
+    d[a.len()][b.len()]
 }
 
 /// The closest candidate within a third of the name's length (at least 1 edit,
@@ -56,5 +70,11 @@ mod tests {
         );
         assert_eq!(best("zzz", ["upright"]), None);
         assert_eq!(best("Chassis", ["chassis"]), Some("chassis"));
+        // A swap of two neighbours is one edit, not two.
+        assert_eq!(distance("amr", "arm"), 1);
+        assert_eq!(distance("uprigth", "upright"), 1);
+        assert_eq!(best("amr", ["arm", "chassis"]), Some("arm"));
+        assert_eq!(distance("", "abc"), 3);
+        assert_eq!(distance("ab", "ba"), 1);
     }
 }

@@ -28,7 +28,9 @@ fn describe(rule: Rule) -> Option<&'static str> {
         model_decl | import_decl | default_decl | param_decl | part_decl | element_decl
         | loads_decl | part_kw | element_kw | kw_model | kw_import | kw_default | kw_param
         | kw_ground | kw_part | kw_joint | kw_bushing | kw_spring | kw_stop | kw_wheel
-        | kw_loads => "an item such as `part`, `joint`, `bushing`, `spring`, `loads` or `param`",
+        | kw_loads => {
+            "an item (`model`, `import`, `default`, `param`, `ground`, `part`, `joint`, `bushing`, `spring`, `stop`, `wheel` or `loads`)"
+        }
         kw_unknown | unknown => "`unknown`",
         bounds => "bounds such as `[100 N/mm, 900 N/mm]`",
         kw_table => "`table`",
@@ -53,7 +55,7 @@ fn describe(rule: Rule) -> Option<&'static str> {
 
 fn token_words(token: &str) -> Option<String> {
     match token {
-        " " | "\t" | "//" | "_" => None,
+        " " | "\t" | "\u{feff}" | "//" | "_" => None,
         "\n" | "\r\n" | "\r" => Some("the end of the line".into()),
         "+" | "-" | "*" | "/" => Some("an operator".into()),
         // Parts of numbers and units, character ranges and built-in rules: noise here.
@@ -158,20 +160,127 @@ pub fn to_diagnostic(file: FileId, text: &str, e: &Error<Rule>) -> Diagnostic {
             w.starts_with("an operator"),
         )
     });
+    // A literal word also inside a longer phrase ("`marker`" beside "`marker` or
+    // `landmark`") says nothing new.
+    let all = words.clone();
+    words.retain(|w| {
+        !(w.starts_with('`')
+            && w.ends_with('`')
+            && all.iter().any(|o| o != w && o.contains(w.as_str())))
+    });
+    // `=` is only ever expected after `param NAME`: then it is the one thing missing.
+    if words.iter().any(|w| w == "`=`") {
+        words.retain(|w| w == "`=`");
+    }
     let what = describe_found(text, range);
     let expected = join_or(&words);
     let span = Span::new(file, range.0, range.1);
     let mut d = Diagnostic::error("E0001", format!("syntax error: expected {expected}"))
         .primary(span, format!("found {what}"));
     let word = what.starts_with('`') && what[1..].starts_with(|c: char| c.is_alphabetic());
+    let found_word = &text[range.0..range.1];
+    // Keywords the parser would have taken here, for "did you mean".
+    let keywords: Vec<&str> = expected_keywords(e);
     if words.iter().any(|w| w.starts_with("a unit")) && word {
-        d = d.hint("units are written right after the number, without spaces inside: `13875 N/mm`, `4000 N*mm/deg`; known units: mm, cm, m, N, kN, deg, rad, kg, s");
+        let units = "units are written right after the number, without spaces inside: `13875 N/mm`, `4000 N*mm/deg`; known units: mm, cm, m, N, kN, deg, rad, kg, s";
+        d = match unit_suggestion(found_word) {
+            Some(u) => d.note(units).hint(format!("did you mean `{u}`?")),
+            None => d.hint(units),
+        };
+    } else if let Some(k) = word
+        .then(|| crate::diagnostic::suggest::best(found_word, keywords.iter().copied()))
+        .flatten()
+    {
+        d = d.hint(format!("did you mean `{k}`?"));
     } else if words.iter().any(|w| w == "the end of the line") && word {
         d = d.hint("each statement and each property goes on a line of its own");
+    } else if words == ["`=`"] {
+        d = d.hint("a parameter is written `param NAME = VALUE`, e.g. `param k_spring = 30 N/mm`");
     } else if (what == "`/`" || what == "`*`") && before.ends_with(|c: char| c.is_alphabetic()) {
         d = d.hint("write compound units without spaces: `N/mm`, `N*mm/deg`");
     } else if words.iter().any(|w| w == "`,`") && what == "`)`" {
         d = d.hint("a vector has three components: `(x, y, z)`");
     }
     d
+}
+
+/// The keywords among the tokens the parser expected at the error.
+fn expected_keywords(e: &Error<Rule>) -> Vec<&'static str> {
+    const KEYWORDS: &[&str] = &[
+        "model", "import", "param", "ground", "part", "marker", "landmark", "joint", "bushing",
+        "spring", "stop", "wheel", "loads", "default", "unknown", "table", "sweep", "by", "at",
+        "euler",
+    ];
+    let Some(att) = e.parse_attempts() else {
+        return Vec::new();
+    };
+    let tokens: Vec<String> = att
+        .expected_tokens()
+        .iter()
+        .map(|t| t.to_string())
+        .collect();
+    KEYWORDS
+        .iter()
+        .copied()
+        .filter(|k| tokens.iter().any(|t| t == k))
+        .collect()
+}
+
+/// A unit the author probably meant by a word that is not one: a misspelt name
+/// (`mn` → `mm`) or names run together without `*` (`Nmm` → `N*mm`).
+fn unit_suggestion(word: &str) -> Option<String> {
+    use crate::units::UNIT_NAMES;
+    // Split into known unit names, longest first (`Nmm` → N, mm).
+    fn split<'a>(w: &'a str, out: &mut Vec<&'a str>) -> bool {
+        if w.is_empty() {
+            return true;
+        }
+        // Mass and time are in no stiffness or load: `degs` is a plural, not deg*s.
+        let mut names: Vec<&str> = UNIT_NAMES
+            .iter()
+            .map(|(n, _)| *n)
+            .filter(|n| !matches!(*n, "s" | "kg"))
+            .collect();
+        names.sort_by_key(|n| std::cmp::Reverse(n.len()));
+        for n in names {
+            if let Some(rest) = w.strip_prefix(n) {
+                out.push(&w[..n.len()]);
+                if split(rest, out) {
+                    return true;
+                }
+                out.pop();
+            }
+        }
+        false
+    }
+    let mut parts = Vec::new();
+    if split(word, &mut parts) && parts.len() > 1 {
+        return Some(parts.join("*"));
+    }
+    // Prefer a name of the same length among equally close ones (`mn` → `mm`, not `m`).
+    UNIT_NAMES
+        .iter()
+        .map(|(n, _)| *n)
+        .map(|n| {
+            let d = crate::diagnostic::suggest::distance(word, n);
+            (d, n.len().abs_diff(word.len()), n)
+        })
+        .filter(|(d, _, _)| *d <= 1.max(word.len() / 3))
+        .min()
+        .map(|(_, _, n)| n.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::unit_suggestion;
+
+    #[test]
+    fn suggests_units() {
+        assert_eq!(unit_suggestion("mn").as_deref(), Some("mm"));
+        assert_eq!(unit_suggestion("Nmm").as_deref(), Some("N*mm"));
+        assert_eq!(unit_suggestion("Nm").as_deref(), Some("N*m"));
+        assert_eq!(unit_suggestion("xyz"), None);
+        assert_eq!(unit_suggestion("degs").as_deref(), Some("deg"));
+        assert_eq!(unit_suggestion("chassis"), None);
+    }
 }
