@@ -58,15 +58,15 @@ impl StaticsError {
 }
 
 impl StaticsErrorKind {
-    /// Stable diagnostic code (`E06xx`: statics).
+    /// Stable diagnostic code (`E10xx`: statics; `E06xx` is the checker's mobility analysis).
     pub fn code(self) -> &'static str {
         match self {
-            StaticsErrorKind::NoGround => "E0601",
-            StaticsErrorKind::DegenerateElement => "E0602",
-            StaticsErrorKind::Unrestrained => "E0603",
-            StaticsErrorKind::NotConverged => "E0604",
-            StaticsErrorKind::InconsistentRedundancy => "E0605",
-            StaticsErrorKind::BadInput => "E0606",
+            StaticsErrorKind::NoGround => "E1001",
+            StaticsErrorKind::DegenerateElement => "E1002",
+            StaticsErrorKind::Unrestrained => "E1003",
+            StaticsErrorKind::NotConverged => "E1004",
+            StaticsErrorKind::InconsistentRedundancy => "E1005",
+            StaticsErrorKind::BadInput => "E1006",
         }
     }
 
@@ -144,7 +144,7 @@ mod tests {
             "nothing restrains it",
         );
         let d = e.to_diagnostic(&model);
-        assert_eq!(d.code, "E0603");
+        assert_eq!(d.code, "E1003");
         assert!(d.labels.is_empty());
         assert!(d.message.contains("part `added_link`"), "{}", d.message);
         assert!(d.notes.iter().any(|n| n.contains("added by a tool")));

@@ -32,7 +32,7 @@ pub fn angles(model: &Model, names: &[String], per_case: &[Vec<AngleWarning>]) -
             let shown: Vec<&str> = cases.iter().take(6).copied().collect();
             let more = if cases.len() > shown.len() { format!(" and {} more", cases.len() - shown.len()) } else { String::new() };
             Diagnostic::warning(
-                "W0602",
+                "W1001",
                 format!(
                     "{} turns beyond ±{ANGLE_LIMIT_DEG}° ({angle} = {value:.2}° at most), where projected angles lose accuracy",
                     model.describe(id)
