@@ -542,3 +542,134 @@ fn the_ball_joint_on_an_unmeasured_rack_is_located_across_the_slide() {
         "the truth differs from the nominal by {moved} mm"
     );
 }
+
+/// Relative motion of part I in part J (`relative_motions` of the JSON), from
+/// the truth's solved part poses: the I marker's point is carried by part I,
+/// read in part J's frame, and placed with J's reference pose; the rotation is
+/// `R_j(r) R_j(c)ᵀ R_i(c) R_i(r)ᵀ`, split by nalgebra.
+fn expected_motion(
+    eqs: &[axle::statics::Equilibrium],
+    m: &Model,
+    (mi, mj): (axle::model::MarkerId, axle::model::MarkerId),
+    reference: usize,
+    step: usize,
+) -> (Vec3, f64, Option<Vec3>) {
+    let (pi, pj) = (m.marker(mi).part, m.marker(mj).part);
+    let pose = |p, s: usize| eqs[s - 1].state.part_pose(p);
+    let in_j_at_ref = |s: usize| {
+        let ((ti, ri), (tj, rj)) = (pose(pi, s), pose(pj, s));
+        let x = ri * m.marker(mi).origin() + ti;
+        let (tjr, rjr) = pose(pj, reference);
+        rjr * (rj.transpose() * (x - tj)) + tjr
+    };
+    let translation = in_j_at_ref(step) - in_j_at_ref(reference);
+    let ((_, ri), (_, rj)) = (pose(pi, step), pose(pj, step));
+    let ((_, rir), (_, rjr)) = (pose(pi, reference), pose(pj, reference));
+    let q = nalgebra::Rotation3::from_matrix_unchecked(rjr * rj.transpose() * ri * rir.transpose());
+    match q.axis_angle() {
+        Some((axis, angle)) => (translation, angle.to_degrees(), Some(axis.into_inner())),
+        None => (translation, 0.0, None),
+    }
+}
+
+/// Noise-free landmarks of the truth along the rig programme: `locate` reports
+/// the relative displacement of every measured pair of jointed parts exactly
+/// as the truth's own part poses give it.
+#[test]
+fn locate_cli_reports_the_relative_motion_of_jointed_parts() {
+    let truth = truth();
+    let set = truth.load_set_named("thesis_table_4_4").expect("set");
+    let csv = scratch(
+        "locate_exact_t44.csv",
+        &axle::measure::synthetic::landmarks_csv(&truth, set, 0.0, 1).expect("solves"),
+    );
+    let reference = 5;
+    let (code, stdout, stderr) = axle(&[
+        "locate",
+        "examples/mcpherson.axle",
+        "--landmarks",
+        &csv,
+        "--format",
+        "json",
+        "--reference",
+        &reference.to_string(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON document");
+    let motions = v["relative_motions"].as_object().expect("relative_motions");
+    // The strut carries no landmarks: L5 and F have no relative motion to show.
+    let names: Vec<&str> = motions.keys().map(String::as_str).collect();
+    assert_eq!(names, ["A", "B", "L3", "L6", "L7", "L8"]);
+    let eqs = axle::statics::solve_set(&truth, set).expect("the truth solves");
+    let nominal = mcpherson();
+    let markers = |name: &str| match nominal.joints.iter().find(|j| j.name == name) {
+        Some(j) => (j.i, j.j),
+        None => {
+            let b = nominal
+                .bushings
+                .iter()
+                .find(|b| b.name == name)
+                .expect("element");
+            (b.i, b.j)
+        }
+    };
+    let num = |x: &serde_json::Value| x.as_f64().expect("a number");
+    let vec3 = |x: &serde_json::Value| {
+        let a = x.as_array().expect("three numbers");
+        Vec3::new(num(&a[0]), num(&a[1]), num(&a[2]))
+    };
+    let (mut worst_t, mut worst_r, mut largest) = (0.0f64, 0.0f64, 0.0f64);
+    for (name, rel) in motions {
+        let (mi, mj) = markers(name);
+        let parts = [mi, mj].map(|mk| nominal.part(nominal.marker(mk).part).name.clone());
+        assert_eq!(rel["parts"], serde_json::json!(parts), "{name}");
+        let steps = rel["steps"].as_array().expect("steps");
+        assert_eq!(steps.len(), eqs.len(), "{name}: every step");
+        for s in steps {
+            let step = s["step"].as_u64().expect("step") as usize;
+            let (t, deg, axis) = expected_motion(&eqs, &nominal, (mi, mj), reference, step);
+            worst_t = worst_t.max((vec3(&s["translation_mm"]) - t).norm());
+            worst_r = worst_r.max((num(&s["rotation_deg"]) - deg).abs());
+            largest = largest.max(deg);
+            match (&s["axis"], axis) {
+                (a, Some(axis)) if !a.is_null() => {
+                    if deg > 1e-3 {
+                        assert!((vec3(a) - axis).norm() < 1e-6, "{name} step {step}");
+                    }
+                }
+                (a, _) => assert!(a.is_null() && deg < 1e-6, "{name} step {step}: {a}"),
+            }
+        }
+        assert!(
+            steps[reference - 1]["axis"].is_null(),
+            "{name}: no motion at the reference"
+        );
+    }
+    eprintln!(
+        "relative motion vs truth: translation {worst_t:.2e} mm, rotation {worst_r:.2e} deg (largest rotation {largest:.2} deg)"
+    );
+    assert!(worst_t < 1e-6 && worst_r < 1e-6);
+    assert!(largest > 1.0, "the programme moves the parts");
+    // The universal joint L3 is where the truth has it: its centre, fixed in
+    // both parts, does not move relative to the chassis.
+    for s in motions["L3"]["steps"].as_array().expect("steps") {
+        assert!(vec3(&s["translation_mm"]).norm() < 1e-6, "{s}");
+    }
+    // The table shows the largest rotation and translation of every pair; with
+    // seeded noise (σ = 0.05 mm), so that the largest values do not hang on
+    // rounding of exact data.
+    let noisy = scratch(
+        "locate_noisy_t44.csv",
+        &axle::measure::synthetic::landmarks_csv(&truth, set, 0.05, 2).expect("solves"),
+    );
+    let (code, table, stderr) = axle(&[
+        "locate",
+        "examples/mcpherson.axle",
+        "--landmarks",
+        &noisy,
+        "--reference",
+        &reference.to_string(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    insta::assert_snapshot!("locate_table_with_relative_motion", table);
+}

@@ -122,6 +122,30 @@ fn table(r: &Report) -> String {
             "pose fits: {n} (part, step) pairs; worst landmark residual {worst:.3} mm ({part}.{lm} at step {step}); every residual in the JSON output\n"
         );
     }
+    s + &relative_table(r)
+}
+
+/// Per element, the largest relative rotation and I-marker translation over
+/// the steps; every step is in the JSON output.
+fn relative_table(r: &Report) -> String {
+    if r.relative_motions.is_empty() {
+        return String::new();
+    }
+    let mut s = format!(
+        "relative motion of part I in part J since step {} (largest over the steps; every step in the JSON output)\n",
+        r.reference_step
+    );
+    s += &format!(
+        "{:<10} {:<28} {:>14} {:>7} {:>13} {:>7}\n",
+        "element", "part I in part J", "rotation deg", "step", "I marker mm", "step"
+    );
+    for (name, m) in &r.relative_motions {
+        let Some(((rs, deg), (ts, mm))) = m.largest() else {
+            continue;
+        };
+        let parts = format!("{} in {}", m.parts[0], m.parts[1]);
+        s += &format!("{name:<10} {parts:<28} {deg:>14.3} {rs:>7} {mm:>13.3} {ts:>7}\n");
+    }
     s
 }
 

@@ -33,12 +33,53 @@ pub struct PoseEntry {
     pub residuals_mm: BTreeMap<String, f64>,
 }
 
+/// The displacement of part I relative to part J from the reference step to
+/// one step, in global coordinates at the reference step (`motion::displacements`).
+#[derive(Debug, Clone, Serialize)]
+pub struct RelativeStep {
+    pub step: usize,
+    /// How far the element's I marker (its model position, carried by part I) moved relative to part J, mm.
+    pub translation_mm: [f64; 3],
+    pub rotation_deg: f64,
+    /// Unit axis of the rotation (right-handed); `None` for no rotation.
+    pub axis: Option<[f64; 3]>,
+}
+
+/// The relative motion of the two parts an element joins, over the steps.
+#[derive(Debug, Clone, Serialize)]
+pub struct RelativeMotion {
+    /// `[part I, part J]`: the parts of the element's I and J markers.
+    pub parts: [String; 2],
+    pub steps: Vec<RelativeStep>,
+}
+
+impl RelativeMotion {
+    /// The step of largest rotation and the step of largest translation:
+    /// `((step, deg), (step, mm))`.
+    pub fn largest(&self) -> Option<((usize, f64), (usize, f64))> {
+        let rot = self
+            .steps
+            .iter()
+            .map(|s| (s.step, s.rotation_deg))
+            .max_by(|a, b| a.1.total_cmp(&b.1))?;
+        let tr = self
+            .steps
+            .iter()
+            .map(|s| (s.step, Vec3::from(s.translation_mm).norm()))
+            .max_by(|a, b| a.1.total_cmp(&b.1))?;
+        Some((rot, tr))
+    }
+}
+
 #[derive(Debug, Clone, Serialize)]
 pub struct Report {
     pub reference_step: usize,
     pub joints: BTreeMap<String, Entry>,
     /// Pose fits by step (as text, a JSON key) and part.
     pub poses: BTreeMap<String, BTreeMap<String, PoseEntry>>,
+    /// By joint or bushing name, for every element whose two parts are measured
+    /// (or the ground) at the reference step.
+    pub relative_motions: BTreeMap<String, RelativeMotion>,
 }
 
 impl Report {
@@ -88,6 +129,46 @@ fn arr(v: Vec3) -> [f64; 3] {
     [v.x, v.y, v.z]
 }
 
+/// Relative motions of the parts of every joint and bushing (issue 5: "the
+/// relative displacement of every pair of parts joined by a joint").
+fn relative_motions(
+    model: &Model,
+    steps: &[StepPoses],
+    reference: usize,
+) -> BTreeMap<String, RelativeMotion> {
+    let joints = model.joints.iter().map(|j| (&j.name, j.i, j.j));
+    let bushings = model.bushings.iter().map(|b| (&b.name, b.i, b.j));
+    let Some(at_ref) = steps.iter().find(|s| s.step == reference) else {
+        return BTreeMap::new();
+    };
+    joints
+        .chain(bushings)
+        .filter_map(|(name, mi, mj)| {
+            let (pi, pj) = (model.marker(mi).part, model.marker(mj).part);
+            let (ri, ti) = super::motion::pose(model, at_ref, pi)?;
+            // The I marker's point at the reference step, global.
+            let p = ri * model.marker(mi).origin() + ti;
+            let steps = super::motion::displacements(model, steps, reference, pi, pj)
+                .into_iter()
+                .map(|(step, d)| {
+                    let (angle, axis) = d.angle_axis();
+                    RelativeStep {
+                        step,
+                        translation_mm: arr(d.apply(&p) - p),
+                        rotation_deg: angle.to_degrees(),
+                        axis: axis.map(arr),
+                    }
+                })
+                .collect::<Vec<_>>();
+            if steps.is_empty() {
+                return None;
+            }
+            let parts = [model.part(pi).name.clone(), model.part(pj).name.clone()];
+            Some((name.clone(), RelativeMotion { parts, steps }))
+        })
+        .collect()
+}
+
 /// Builds the report at `reference` (a step number of the data). Unobservable
 /// quantities are `None`, never a number.
 pub fn report(model: &Model, steps: &[StepPoses], located: &[Located], reference: usize) -> Report {
@@ -117,6 +198,7 @@ pub fn report(model: &Model, steps: &[StepPoses], located: &[Located], reference
         reference_step: reference,
         joints,
         poses: poses(model, steps),
+        relative_motions: relative_motions(model, steps, reference),
     }
 }
 
