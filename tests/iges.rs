@@ -330,3 +330,82 @@ proptest! {
         }
     }
 }
+
+fn axle_cli(args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_axle"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn scratch(name: &str, text: &str) -> String {
+    let p = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::write(&p, text).expect("write");
+    p.to_string_lossy().into_owned()
+}
+
+/// `axle identify` takes the measured states as IGES files (one per load
+/// case, as the thesis' measuring arm saved them) and identifies exactly what
+/// it identifies from the same numbers in CSV; the truth is the example itself,
+/// so the interval covers the nominal stiffness.
+#[test]
+fn identify_reads_iges_files_like_the_csv() {
+    let m = mcpherson();
+    let set = m.load_set_named("thesis_table_5_1").expect("set");
+    let csv = scratch(
+        "identify_t51.csv",
+        &axle::measure::synthetic::landmarks_csv(&m, set, 0.05, 3).expect("solves"),
+    );
+    let files: Vec<String> = axle::measure::synthetic::landmarks_iges(&m, set, 0.05, 3)
+        .expect("solves")
+        .iter()
+        .enumerate()
+        .map(|(k, text)| scratch(&format!("identify_t51_{:02}.igs", k + 1), text))
+        .collect();
+    let run = |landmarks: &[String]| {
+        let mut args = vec![
+            "identify",
+            "examples/mcpherson.axle",
+            "--loadcases",
+            "thesis_table_5_1",
+            "--method",
+            "lsq",
+            "--unknown",
+            "A.k_x",
+            "--format",
+            "json",
+            "--landmarks",
+        ];
+        args.extend(landmarks.iter().map(String::as_str));
+        let (code, stdout, stderr) = axle_cli(&args);
+        assert_eq!(code, 0, "{stderr}");
+        let v: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON document");
+        v
+    };
+    let (from_csv, from_iges) = (run(&[csv]), run(&files));
+    assert_eq!(from_iges["rank"], from_csv["rank"]);
+    let (a, b) = (
+        from_iges["parameters"].as_object().expect("parameters"),
+        from_csv["parameters"].as_object().expect("parameters"),
+    );
+    assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
+    for (name, p) in a {
+        assert_eq!(p["identifiable"], b[name]["identifiable"], "{name}");
+        match (p["value"].as_f64(), b[name]["value"].as_f64()) {
+            (Some(x), Some(y)) => assert!((x - y).abs() <= 1e-9 * y.abs(), "{name}: {x} vs {y}"),
+            (x, y) => assert_eq!(x, y, "{name}"),
+        }
+    }
+    let interval = a["A.k_x"]["interval"].as_array().expect("an interval");
+    let (lo, hi) = (
+        interval[0].as_f64().expect("lo"),
+        interval[1].as_f64().expect("hi"),
+    );
+    assert!(lo < 13875.0 && 13875.0 < hi, "A.k_x in [{lo}, {hi}]");
+}

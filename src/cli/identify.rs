@@ -1,4 +1,4 @@
-//! `axle identify FILE --landmarks CSV [--kc CSV] [--loads CSV] [--loadcases SET]
+//! `axle identify FILE --landmarks CSV|IGES... [--kc CSV] [--loads CSV] [--loadcases SET]
 //! --method direct|iterative|lsq [--unknown NAME...] [--format table|json]
 //! [-o OUT.axle] [--report DIR]`: reads the model and the data, runs one identification
 //! method, prints the parameters (boundary units) and optionally writes the
@@ -31,9 +31,13 @@ pub enum IdentifyFormat {
 #[derive(clap::Args)]
 pub struct IdentifyArgs {
     pub file: PathBuf,
-    /// Landmark CSV: step, part, landmark, x, y, z.
-    #[arg(long)]
-    pub landmarks: PathBuf,
+    /// Landmark files: CSV (step, part, landmark, x, y, z) and/or IGES (one
+    /// measured state per file, numbered after the CSV steps).
+    #[arg(long, num_args = 1.., required = true)]
+    pub landmarks: Vec<PathBuf>,
+    /// Landmark matching tolerance, mm (thesis: 0.5).
+    #[arg(long, default_value_t = 0.5)]
+    pub match_tolerance: f64,
     /// K&C CSV: its fx, fy, fz (and mx, my, mz) are the loads; lsq also fits its channels.
     #[arg(long)]
     pub kc: Option<PathBuf>,
@@ -94,31 +98,21 @@ pub fn run(a: &IdentifyArgs) -> Exit {
     let (Some(mut model), false) = (checked.model, errors) else {
         return Exit::Input;
     };
-    if !(a.sigma > 0.0 && a.sigma.is_finite()) || !(a.tolerance > 0.0) || !a.threshold.is_finite() {
-        eprintln!("error: --sigma and --tolerance must be positive numbers");
+    if !(a.sigma > 0.0 && a.sigma.is_finite())
+        || !(a.tolerance > 0.0)
+        || !(a.match_tolerance > 0.0)
+        || !a.threshold.is_finite()
+    {
+        eprintln!("error: --sigma, --tolerance and --match-tolerance must be positive numbers");
         return Exit::Io;
     }
 
-    // Landmarks → part poses.
-    let Some(lm) = data(&mut sources, &a.landmarks) else {
-        return Exit::Io;
+    // Landmarks → part poses (warnings point at the data line left out).
+    let landmarks = match super::locate::load_landmarks(&mut sources, &a.landmarks, &model) {
+        Ok(d) => d,
+        Err(code) => return code,
     };
-    let (obs, skipped) = match crate::data::landmarks::read(sources.text(lm), &model) {
-        Ok(x) => x,
-        Err(e) => return fail(&sources, e.to_diagnostic(lm)),
-    };
-    for s in skipped {
-        eprintln!(
-            "warning: {}:{}: {}",
-            a.landmarks.display(),
-            s.line,
-            s.message
-        );
-    }
-    let (poses, issues) = crate::measure::poses::fit_poses(&model, &obs, 0.5);
-    for i in issues {
-        eprintln!("warning: {}: {}", a.landmarks.display(), i.message(&model));
-    }
+    let poses = landmarks.fit(&sources, &model, a.match_tolerance);
     let steps: Vec<usize> = poses.iter().map(|p| p.step).collect();
 
     // Loads per step.
