@@ -1,19 +1,7 @@
 //! The built `axle` binary: exit codes, streams and JSON shapes of interfaces.md.
 
-use std::process::Command;
-
-fn axle(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_axle"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the binary runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+mod common;
+use common::axle;
 
 #[test]
 fn check_passes_clean_examples_with_exit_0() {

@@ -3,11 +3,13 @@
 //! same numbers in CSV, diagnostics of malformed files, and no panic on
 //! mutated files.
 
+mod common;
 use axle::data::iges::{self, Geometry, Iges};
 use axle::diagnostic::render;
 use axle::geom::Vec3;
 use axle::measure::poses::fit_poses;
 use axle::source::SourceMap;
+use common::{axle, scratch};
 use proptest::prelude::*;
 
 const HAND: &str = include_str!("data/iges/hand.igs");
@@ -331,25 +333,6 @@ proptest! {
     }
 }
 
-fn axle_cli(args: &[&str]) -> (i32, String, String) {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_axle"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn scratch(name: &str, text: &str) -> String {
-    let p = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
-    std::fs::write(&p, text).expect("write");
-    p.to_string_lossy().into_owned()
-}
-
 /// `axle identify` takes the measured states as IGES files (one per load
 /// case, as the thesis' measuring arm saved them) and identifies exactly what
 /// it identifies from the same numbers in CSV; the truth is the example itself,
@@ -383,7 +366,7 @@ fn identify_reads_iges_files_like_the_csv() {
             "--landmarks",
         ];
         args.extend(landmarks.iter().map(String::as_str));
-        let (code, stdout, stderr) = axle_cli(&args);
+        let (code, stdout, stderr) = axle(&args);
         assert_eq!(code, 0, "{stderr}");
         let v: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON document");
         v

@@ -2,10 +2,12 @@
 //! McPherson with its joints moved by known offsets, solved along the bump,
 //! lateral and longitudinal paths, landmarks with σ = 0.05 mm noise.
 
+mod common;
 use axle::geom::Vec3;
 use axle::locate::plan::{Located, Options, locate_all};
 use axle::measure::poses::fit_poses;
 use axle::model::{ElementId, Model, vals};
+use common::{axle, scratch};
 
 fn mcpherson() -> Model {
     let (_, c) =
@@ -209,25 +211,6 @@ fn the_strut_top_is_observable_only_with_steering() {
         "error {e} mm against uncertainty {}",
         f.uncertainty
     );
-}
-
-fn axle(args: &[&str]) -> (i32, String, String) {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_axle"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn scratch(name: &str, text: &str) -> String {
-    let p = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
-    std::fs::write(&p, text).expect("write");
-    p.to_string_lossy().into_owned()
 }
 
 #[test]

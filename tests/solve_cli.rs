@@ -4,21 +4,8 @@
 
 use serde_json::Value;
 use std::path::PathBuf;
-use std::process::Command;
-
-fn axle(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_axle"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the binary runs");
-    let (stdout, stderr) = (
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    );
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    (out.status.code().unwrap_or(-1), stdout, stderr)
-}
+mod common;
+use common::axle;
 
 /// Runs a command that must succeed; returns stdout.
 fn ok(args: &[&str]) -> String {

@@ -1,0 +1,28 @@
+//! What the command-line tests share: running the built binary and writing
+//! scratch input files. Each test file that needs them says `mod common;`.
+#![allow(dead_code)] // not every test file uses every helper
+
+use std::process::Command;
+
+/// Runs the built `axle` in the crate root; returns (exit code, stdout,
+/// stderr). A panic is never an acceptable outcome, whatever the input.
+pub fn axle(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_axle"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the binary runs");
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    (out.status.code().unwrap_or(-1), stdout, stderr)
+}
+
+/// Writes `text` to a file of the test target's scratch folder; returns its path.
+pub fn scratch(name: &str, text: &str) -> String {
+    let p = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::write(&p, text).expect("scratch file");
+    p.to_string_lossy().into_owned()
+}
