@@ -12,9 +12,10 @@
 //! their intervals are multiplicative.
 
 use super::columns::{column, is_affine};
-use super::linalg::{solve, svd};
+use super::fit_stats::{Fit, statistics};
+use super::linalg::solve;
 use super::measured::Measured;
-use super::{Identified, IdentifyError, Method, ParamResult, Unknown};
+use super::{BoundIssue, Identified, IdentifyError, Method, Unknown};
 use crate::geom::{Mat3, Vec3, skew};
 use crate::model::{Model, values};
 use crate::statics::newton::{assemble, col_scale, kkt};
@@ -50,11 +51,11 @@ impl Default for LsqOptions {
 }
 
 /// How an unknown maps to the search variable.
-fn is_log(u: &Unknown) -> bool {
+pub(super) fn is_log(u: &Unknown) -> bool {
     u.is_stiffness() && u.initial > 0.0
 }
 
-fn scale_of(u: &Unknown) -> f64 {
+pub(super) fn scale_of(u: &Unknown) -> f64 {
     u.initial.abs().max(1.0)
 }
 
@@ -62,16 +63,66 @@ fn to_param(u: &Unknown, x: f64) -> f64 {
     if is_log(u) { x.exp() } else { x * scale_of(u) }
 }
 
+fn to_search(u: &Unknown, p: f64) -> f64 {
+    if is_log(u) {
+        if p > 0.0 { p.ln() } else { f64::NEG_INFINITY }
+    } else {
+        p / scale_of(u)
+    }
+}
+
 /// dp/dx.
 fn dparam(u: &Unknown, x: f64) -> f64 {
     if is_log(u) { x.exp() } else { scale_of(u) }
 }
 
-/// One observation: a landmark of a part (design position) or a K&C channel.
+/// The registration's search variables: a rotation vector in mrad and a
+/// translation in mm, a correction applied to the registered measurements
+/// (`R(ω) y + τ`). Milliradians keep its columns on the scale of the others
+/// (a milliradian moves a point 1 m away by 1 mm).
+const REG: usize = 6;
+const MRAD: f64 = 1e-3;
+
+fn registration(x: &[f64]) -> (Mat3, Vec3) {
+    let w = Vec3::new(x[0], x[1], x[2]) * MRAD;
+    (
+        nalgebra::Rotation3::new(w).into_inner(),
+        Vec3::new(x[3], x[4], x[5]),
+    )
+}
+
+/// d(R(ω) y + τ) / d(registration variables), 3 × 6: the rotation through
+/// the left Jacobian of SO(3), exp(ω + dω) = exp(J_l(ω) dω) exp(ω).
+fn registration_jacobian(x: &[f64], y: &Vec3) -> nalgebra::SMatrix<f64, 3, 6> {
+    let w = Vec3::new(x[0], x[1], x[2]) * MRAD;
+    let (r, _) = registration(x);
+    let th = w.norm();
+    let k = skew(&w);
+    let jl = if th < 1e-8 {
+        Mat3::identity() + 0.5 * k
+    } else {
+        Mat3::identity()
+            + k * ((1.0 - th.cos()) / (th * th))
+            + k * k * ((th - th.sin()) / (th * th * th))
+    };
+    let dw = -skew(&(r * y)) * jl * MRAD;
+    let mut j = nalgebra::SMatrix::<f64, 3, 6>::zeros();
+    j.fixed_view_mut::<3, 3>(0, 0).copy_from(&dw);
+    j.fixed_view_mut::<3, 3>(0, 3).copy_from(&Mat3::identity());
+    j
+}
+
+/// One observation: a landmark of a moving part or of the ground (design
+/// position against its registered measurement), or a K&C channel.
 #[derive(Clone, Copy)]
 enum Obs {
     Landmark {
         part: usize,
+        design: Vec3,
+        target: Vec3,
+    },
+    /// A ground landmark: it does not move, so it observes only the registration.
+    Ground {
         design: Vec3,
         target: Vec3,
     },
@@ -87,6 +138,9 @@ struct Problemset<'a> {
     data: &'a Measured,
     obs: Vec<Vec<Obs>>,
     opts: LsqOptions,
+    /// Nuisance variables after the unknowns: [`REG`] when the measurements
+    /// were registered through the ground's landmarks, else 0.
+    nr: usize,
 }
 
 fn kc_value(model: &Model, st: &State, channel: usize) -> f64 {
@@ -101,7 +155,7 @@ fn kc_value(model: &Model, st: &State, channel: usize) -> f64 {
 impl Problemset<'_> {
     fn sigma(&self, o: &Obs) -> f64 {
         match o {
-            Obs::Landmark { .. } => self.opts.landmark_sigma,
+            Obs::Landmark { .. } | Obs::Ground { .. } => self.opts.landmark_sigma,
             Obs::Kc { channel, .. } => {
                 if *channel < 2 {
                     self.opts.angle_sigma
@@ -120,6 +174,16 @@ impl Problemset<'_> {
         m
     }
 
+    /// The registration correction at `x` (identity without registration).
+    fn correction(&self, x: &DVector<f64>) -> (Mat3, Vec3) {
+        let nu = self.unknowns.len();
+        if self.nr == REG {
+            registration(&x.as_slice()[nu..nu + REG])
+        } else {
+            (Mat3::identity(), Vec3::zeros())
+        }
+    }
+
     /// Solves every step (warm started) and returns the weighted residuals.
     fn evaluate(
         &self,
@@ -127,6 +191,7 @@ impl Problemset<'_> {
         warm: &[State],
     ) -> Result<(Problem, Vec<State>, DVector<f64>), IdentifyError> {
         let m = self.model_at(x);
+        let (rr, rt) = self.correction(x);
         let problem =
             Problem::new(&m).map_err(|e| IdentifyError::new(e.message(&m), e.elements.clone()))?;
         let mut states = Vec::with_capacity(self.data.steps.len());
@@ -167,8 +232,15 @@ impl Problemset<'_> {
                     } => {
                         let (t, r) = eq.state.part_pose(crate::model::PartId(part as u32));
                         let p = t + r * design;
+                        let y = rr * target + rt;
                         for c in 0..3 {
-                            res.push((p[c] - target[c]) * w);
+                            res.push((p[c] - y[c]) * w);
+                        }
+                    }
+                    Obs::Ground { design, target } => {
+                        let y = rr * target + rt;
+                        for c in 0..3 {
+                            res.push((design[c] - y[c]) * w);
                         }
                     }
                     Obs::Kc { channel, target } => {
@@ -182,7 +254,8 @@ impl Problemset<'_> {
         Ok((problem, states, DVector::from_vec(res)))
     }
 
-    /// The weighted Jacobian of the residuals in the search variables.
+    /// The weighted Jacobian of the residuals in the search variables (the
+    /// unknowns, then the registration's).
     fn jacobian(
         &self,
         x: &DVector<f64>,
@@ -190,10 +263,23 @@ impl Problemset<'_> {
         states: &[State],
     ) -> Result<DMatrix<f64>, IdentifyError> {
         let nu = self.unknowns.len();
+        let nx = nu + self.nr;
         let n = problem.layout.n();
         let length = problem.length;
         let mut work = problem.model.clone();
         let mut rows: Vec<DVector<f64>> = Vec::new();
+        let reg_x = &x.as_slice()[nu..nx];
+        // The registration's three columns of one registered target.
+        let reg_rows = |target: &Vec3, w: f64, rows: &mut [DVector<f64>]| {
+            if self.nr == REG {
+                let j = registration_jacobian(reg_x, target);
+                for (c, row) in rows.iter_mut().enumerate() {
+                    for a in 0..REG {
+                        row[nu + a] = -j[(c, a)] * w;
+                    }
+                }
+            }
+        };
         let fail = |what: &str, step: usize| {
             IdentifyError::new(
                 format!(
@@ -253,31 +339,37 @@ impl Problemset<'_> {
             for o in &self.obs[k] {
                 let w = 1.0 / self.sigma(o);
                 match *o {
-                    Obs::Landmark { part, design, .. } => {
-                        let Some(blk) = problem.layout.block_of_part[part] else {
-                            for _ in 0..3 {
-                                rows.push(DVector::zeros(nu));
-                            }
-                            continue;
-                        };
-                        let (_, rot) = st.part_pose(crate::model::PartId(part as u32));
-                        let arm = rot * design;
-                        let g: Mat3 = -skew(&arm);
-                        for c in 0..3 {
-                            let mut row = DVector::zeros(nu);
-                            for i in 0..nu {
-                                let mut v = dq[(6 * blk + c, i)];
-                                for a in 0..3 {
-                                    v += g[(c, a)] * dq[(6 * blk + 3 + a, i)];
+                    Obs::Landmark {
+                        part,
+                        design,
+                        target,
+                    } => {
+                        let mut three = vec![DVector::zeros(nx); 3];
+                        reg_rows(&target, w, &mut three);
+                        if let Some(blk) = problem.layout.block_of_part[part] {
+                            let (_, rot) = st.part_pose(crate::model::PartId(part as u32));
+                            let arm = rot * design;
+                            let g: Mat3 = -skew(&arm);
+                            for (c, row) in three.iter_mut().enumerate() {
+                                for i in 0..nu {
+                                    let mut v = dq[(6 * blk + c, i)];
+                                    for a in 0..3 {
+                                        v += g[(c, a)] * dq[(6 * blk + 3 + a, i)];
+                                    }
+                                    row[i] = v * w;
                                 }
-                                row[i] = v * w;
                             }
-                            rows.push(row);
                         }
+                        rows.extend(three);
+                    }
+                    Obs::Ground { target, .. } => {
+                        let mut three = vec![DVector::zeros(nx); 3];
+                        reg_rows(&target, w, &mut three);
+                        rows.extend(three);
                     }
                     Obs::Kc { channel, .. } => {
                         // Explicit function of the state: difference along each motion.
-                        let mut row = DVector::zeros(nu);
+                        let mut row = DVector::zeros(nx);
                         for i in 0..nu {
                             let h = 1e-6 / dq.column(i).amax().max(1e-300);
                             let mut sp = st.clone();
@@ -294,7 +386,7 @@ impl Problemset<'_> {
                 }
             }
         }
-        let mut j = DMatrix::zeros(rows.len(), nu);
+        let mut j = DMatrix::zeros(rows.len(), nx);
         for (r, row) in rows.iter().enumerate() {
             j.set_row(r, &row.transpose());
         }
@@ -302,15 +394,14 @@ impl Problemset<'_> {
     }
 }
 
-pub fn identify(
-    model: &Model,
-    unknowns: &[Unknown],
-    data: &Measured,
-    opts: LsqOptions,
-) -> Result<Identified, IdentifyError> {
+/// The observations of every step, the number of independent ones (6 per
+/// fitted pose, 1 per K&C channel) and whether the ground was measured (the
+/// registration is then estimated with the unknowns).
+fn observations(model: &Model, data: &Measured) -> (Vec<Vec<Obs>>, usize, bool) {
     let ground = model.ground();
     let mut obs: Vec<Vec<Obs>> = Vec::new();
     let mut n_eff = 0usize;
+    let mut registered = false;
     for s in &data.steps {
         let mut o = Vec::new();
         for (p, pose) in s.poses.iter().enumerate() {
@@ -332,6 +423,21 @@ pub fn identify(
                 n_eff += 6;
             }
         }
+        if let (Some(g), Some((t, r))) = (ground, s.ground) {
+            let mut any = false;
+            for l in model.landmarks.iter().filter(|l| l.part == g) {
+                let design = values(&l.position);
+                o.push(Obs::Ground {
+                    design,
+                    target: t + r * design,
+                });
+                any = true;
+            }
+            if any {
+                n_eff += 6;
+                registered = true;
+            }
+        }
         if let (Some(kc), false) = (s.kc, model.wheels.is_empty()) {
             for (c, v) in [kc.toe_deg, kc.camber_deg, kc.wc.x, kc.wc.y, kc.wc.z]
                 .into_iter()
@@ -346,8 +452,25 @@ pub fn identify(
         }
         obs.push(o);
     }
+    (obs, n_eff, registered)
+}
+
+/// `v` limited to `[lo, hi]` (no panic on an empty or NaN interval: then `v`).
+fn project(v: f64, lo: f64, hi: f64) -> f64 {
+    if lo <= hi { v.max(lo).min(hi) } else { v }
+}
+
+pub fn identify(
+    model: &Model,
+    unknowns: &[Unknown],
+    data: &Measured,
+    opts: LsqOptions,
+) -> Result<Identified, IdentifyError> {
+    let (obs, n_eff, registered) = observations(model, data);
     let nu = unknowns.len();
-    if n_eff <= nu {
+    let nr = if registered { REG } else { 0 };
+    let nx = nu + nr;
+    if n_eff <= nx {
         return Err(IdentifyError::new(
             format!("{n_eff} independent observations cannot determine {nu} unknowns"),
             vec![],
@@ -359,17 +482,42 @@ pub fn identify(
         data,
         obs,
         opts,
+        nr,
     };
-    let x0 = DVector::from_fn(nu, |i, _| {
-        let u = &unknowns[i];
-        if is_log(u) {
-            u.initial.ln()
-        } else {
-            u.initial / scale_of(u)
-        }
+    // Declared bounds in the search variables (the registration is free).
+    let lo = DVector::from_fn(nx, |i, _| {
+        unknowns
+            .get(i)
+            .and_then(|u| u.bounds.lower.map(|b| to_search(u, b)))
+            .unwrap_or(f64::NEG_INFINITY)
     });
-    let (mut problem, mut states, mut r) = ps.evaluate(&x0, &[])?;
-    let mut x = x0.clone();
+    let hi = DVector::from_fn(nx, |i, _| {
+        unknowns
+            .get(i)
+            .and_then(|u| u.bounds.upper.map(|b| to_search(u, b)))
+            .unwrap_or(f64::INFINITY)
+    });
+    let mut notes = Vec::new();
+    let x0 = DVector::from_fn(nx, |i, _| match unknowns.get(i) {
+        Some(u) => to_search(u, u.initial),
+        None => 0.0,
+    });
+    let mut x = DVector::from_fn(nx, |i, _| project(x0[i], lo[i], hi[i]));
+    for (i, u) in unknowns.iter().enumerate() {
+        if x[i] != x0[i] {
+            notes.push(format!(
+                "{} starts at its declared bound {:.4e}: its initial value {:.4e} lies outside",
+                u.label(),
+                crate::units::to_boundary(to_param(u, x[i]), u.dim),
+                crate::units::to_boundary(u.initial, u.dim)
+            ));
+        }
+    }
+    // A variable sits on a bound with the cost's gradient pushing it out.
+    let blocked = |x: &DVector<f64>, g: &DVector<f64>, i: usize| {
+        (x[i] <= lo[i] && g[i] > 0.0) || (x[i] >= hi[i] && g[i] < 0.0)
+    };
+    let (mut problem, mut states, mut r) = ps.evaluate(&x, &[])?;
     let mut cost = 0.5 * r.norm_squared();
     let mut mu = 1e-3;
     let mut iterations = 0;
@@ -378,14 +526,25 @@ pub fn identify(
         iterations = it;
         let g = jac.transpose() * &r;
         let h = jac.transpose() * &jac;
+        // Projected Levenberg–Marquardt: variables held at a bound by the
+        // gradient leave the step (their rows become the identity), the rest
+        // is solved for and the trial point projected on the bounds.
+        let held: Vec<bool> = (0..nx).map(|i| blocked(&x, &g, i)).collect();
         let mut accepted = false;
         let mut small_step = false;
         for _ in 0..12 {
             let mut a = h.clone();
-            for i in 0..nu {
+            let mut rhs = -&g;
+            for i in 0..nx {
                 a[(i, i)] += mu * h[(i, i)].max(1e-12 * h.diagonal().amax()).max(1e-300);
             }
-            let Some(step) = solve(&a, &DMatrix::from_column_slice(nu, 1, (-&g).as_slice())) else {
+            for i in (0..nx).filter(|&i| held[i]) {
+                a.row_mut(i).fill(0.0);
+                a.column_mut(i).fill(0.0);
+                a[(i, i)] = 1.0;
+                rhs[i] = 0.0;
+            }
+            let Some(step) = solve(&a, &DMatrix::from_column_slice(nx, 1, rhs.as_slice())) else {
                 mu *= 10.0;
                 continue;
             };
@@ -396,14 +555,14 @@ pub fn identify(
             for v in step.iter_mut() {
                 *v = v.clamp(-1.0, 1.0);
             }
-            // Keep stiffnesses within six decades of where they started.
-            let xt = DVector::from_fn(nu, |i, _| {
-                let v = x[i] + step[i];
-                if is_log(&unknowns[i]) {
-                    v.clamp(x0[i] - 14.0, x0[i] + 14.0)
-                } else {
-                    v
+            // Keep stiffnesses within six decades of where they started, and
+            // every unknown within its declared bounds.
+            let xt = DVector::from_fn(nx, |i, _| {
+                let mut v = x[i] + step[i];
+                if unknowns.get(i).is_some_and(is_log) {
+                    v = v.clamp(x0[i] - 14.0, x0[i] + 14.0);
                 }
+                project(v, lo[i], hi[i])
             });
             if (&xt - &x).amax() < 1e-10 {
                 small_step = true;
@@ -433,83 +592,56 @@ pub fn identify(
         }
         jac = ps.jacobian(&x, &problem, &states)?;
     }
-    // Statistics at the solution.
-    let dof = n_eff - nu;
-    let s0 = (2.0 * cost / dof as f64).sqrt();
-    let d = svd(&jac, nu > jac.nrows())
-        .ok_or_else(|| IdentifyError::new("the Jacobian is not finite", vec![]))?;
-    let smax = d.s.first().copied().unwrap_or(0.0);
-    let rnk = d.s.iter().filter(|&&s| s > 1e-10 * smax).count();
-    let factor = s0.max(1.0).powi(2);
-    let mut cov = DMatrix::zeros(nu, nu);
-    for k in 0..rnk {
-        let v = d.v.column(k);
-        cov += v * v.transpose() * (factor / (d.s[k] * d.s[k]));
-    }
-    let null = d.v.columns(rnk, d.v.ncols() - rnk).into_owned();
-    let mut params = Vec::with_capacity(nu);
-    for (i, u) in unknowns.iter().enumerate() {
-        let p = to_param(u, x[i]);
-        let in_null = null.nrows() > 0 && null.ncols() > 0 && null.row(i).norm() > 1e-3;
-        let sd = cov[(i, i)].max(0.0).sqrt();
-        let (lo, hi, relw) = if is_log(u) {
-            (
-                p * (-1.96 * sd).exp(),
-                p * (1.96 * sd).exp(),
-                (1.96 * sd).exp() - 1.0,
-            )
-        } else {
-            let w = 1.96 * sd * scale_of(u);
-            (
-                p - w,
-                p + w,
-                if p != 0.0 { w / p.abs() } else { f64::INFINITY },
-            )
-        };
-        let identifiable =
-            !in_null && relw.is_finite() && (relw < 0.5 || !u.is_stiffness()) && p.is_finite();
-        params.push(ParamResult {
-            initial: u.initial,
-            value: if identifiable { Some(p) } else { None },
-            interval: if identifiable { Some((lo, hi)) } else { None },
-            identifiable,
-            note: if identifiable {
-                None
-            } else if in_null {
-                Some("not identifiable: it does not affect the observations".into())
-            } else {
-                Some(format!(
-                    "not identifiable from these data: its 95 % interval spans a factor {:.2} (fitted {:.4e})",
-                    (1.0 + relw.min(1e12)),
-                    crate::units::to_boundary(p, u.dim)
-                ))
-            },
-        });
-    }
-    let correlation = (0..nu)
+    let g = jac.transpose() * &r;
+    let at_bound: Vec<Option<BoundIssue>> = (0..nu)
         .map(|i| {
-            (0..nu)
-                .map(|j| {
-                    let den = (cov[(i, i)] * cov[(j, j)]).sqrt();
-                    if den > 0.0 { cov[(i, j)] / den } else { 0.0 }
-                })
-                .collect()
+            if !blocked(&x, &g, i) {
+                None
+            } else if x[i] <= lo[i] {
+                Some(BoundIssue::AtLower)
+            } else {
+                Some(BoundIssue::AtUpper)
+            }
         })
         .collect();
+    let stats = statistics(&Fit {
+        unknowns,
+        values: (0..nu).map(|i| to_param(&unknowns[i], x[i])).collect(),
+        jac: &jac,
+        nuisance: nr,
+        cost,
+        n_eff,
+        at_bound,
+    })?;
+    let s0 = stats.sigma0;
+    notes.insert(
+        0,
+        format!(
+            "{n_eff} independent observations (6 per fitted pose, 1 per K&C channel), {nu} unknowns; a posteriori sigma factor {s0:.3}"
+        ),
+    );
+    if registered {
+        let (rot, t) = ps.correction(&x);
+        let angle = nalgebra::Rotation3::from_matrix_unchecked(rot).angle();
+        notes.push(format!(
+            "the registration to the model frame (fitted from the ground's landmarks) was re-estimated with the unknowns, and its uncertainty is in their intervals: correction {:.4} mm, {:.2e} rad",
+            t.norm(),
+            angle
+        ));
+    }
+    let rank = stats.rank;
     Ok(Identified {
         method: Method::Lsq,
         unknowns: unknowns.to_vec(),
-        params,
+        params: stats.params,
         combinations: Vec::new(),
-        rank: rnk,
-        singular_values: d.s.clone(),
+        rank,
+        singular_values: stats.singular_values,
         iterations,
         history: Vec::new(),
-        correlation: Some(correlation),
+        correlation: Some(stats.correlation),
         sigma0: Some(s0),
-        notes: vec![format!(
-            "{n_eff} independent observations (6 per fitted pose, 1 per K&C channel), {nu} unknowns; a posteriori sigma factor {s0:.3}"
-        )],
+        notes,
     })
 }
 
@@ -518,8 +650,8 @@ mod tests {
     use super::*;
 
     /// The implicit-function Jacobian equals a central difference of the
-    /// whole simulation (landmark residuals), for stiffnesses, the spring and
-    /// a joint coordinate.
+    /// whole simulation (landmark residuals), for stiffnesses, the spring, a
+    /// joint coordinate and the six registration variables.
     #[test]
     fn sensitivities_match_finite_differences_of_the_simulation() {
         let (_, c) =
@@ -545,6 +677,10 @@ mod tests {
         .map(String::from)
         .to_vec();
         let u = super::super::select_unknowns(&m, &names).expect("unknowns");
+        // Every landmark, the ground's too, with the registration estimated
+        // (at a non-zero correction, so the rotation's Jacobian is tested away
+        // from the identity).
+        let g = m.ground().expect("ground");
         let ps = Problemset {
             model: &m,
             unknowns: &u,
@@ -555,31 +691,36 @@ mod tests {
                 .map(|s| {
                     m.landmarks
                         .iter()
-                        .filter(|l| !m.part(l.part).ground)
                         .map(|l| {
                             let (t, r) = s.poses[l.part.index()].expect("pose");
                             let d = values(&l.position);
-                            Obs::Landmark {
-                                part: l.part.index(),
-                                design: d,
-                                target: t + r * d,
+                            if l.part == g {
+                                Obs::Ground {
+                                    design: d,
+                                    target: t + r * d + Vec3::new(0.01, -0.02, 0.005),
+                                }
+                            } else {
+                                Obs::Landmark {
+                                    part: l.part.index(),
+                                    design: d,
+                                    target: t + r * d,
+                                }
                             }
                         })
                         .collect()
                 })
                 .collect(),
             opts: LsqOptions::default(),
+            nr: REG,
         };
-        let x = DVector::from_fn(u.len(), |i, _| {
-            if is_log(&u[i]) {
-                u[i].initial.ln()
-            } else {
-                u[i].initial / scale_of(&u[i])
-            }
+        let reg = [0.3, -0.2, 0.1, 0.05, -0.1, 0.02];
+        let x = DVector::from_fn(u.len() + REG, |i, _| match u.get(i) {
+            Some(ui) => to_search(ui, ui.initial),
+            None => reg[i - u.len()],
         });
         let (p, st, _) = ps.evaluate(&x, &[]).expect("solves");
         let j = ps.jacobian(&x, &p, &st).expect("jacobian");
-        for i in 0..u.len() {
+        for i in 0..u.len() + REG {
             let h = 1e-5;
             let mut xp = x.clone();
             xp[i] += h;
@@ -592,7 +733,8 @@ mod tests {
             assert!(
                 err < 1e-4 * (1.0 + fd.amax()),
                 "{}: err {err}, scale {}",
-                u[i].label(),
+                u.get(i)
+                    .map_or(format!("registration {}", i - u.len()), |x| x.label()),
                 fd.amax()
             );
         }

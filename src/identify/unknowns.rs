@@ -6,7 +6,7 @@
 
 use super::IdentifyError;
 use crate::model::address::Address;
-use crate::model::{AxisLaw, BushingId, ElementId, Model, SpringId, SpringLaw, Symmetry};
+use crate::model::{AxisLaw, Bounds, BushingId, ElementId, Model, SpringId, SpringLaw, Symmetry};
 use crate::units::Dim;
 
 /// One unknown: one or more addresses that always share a value.
@@ -18,6 +18,9 @@ pub struct Unknown {
     pub dim: Dim,
     /// Value in the model, internal units.
     pub initial: f64,
+    /// Bounds declared with `unknown [lo, hi]` (internal units); open for
+    /// element fields and unbounded parameters.
+    pub bounds: Bounds,
 }
 
 impl Unknown {
@@ -26,6 +29,10 @@ impl Unknown {
         Unknown {
             dim: addrs[0].dim(model),
             initial: addrs[0].get(model),
+            bounds: match addrs[0] {
+                Address::Param(p) => model.params[p.index()].unknown.unwrap_or_default(),
+                _ => Bounds::default(),
+            },
             addrs,
             names,
         }
