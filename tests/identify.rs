@@ -759,3 +759,90 @@ fn lsq_intervals_cover_the_truth_with_the_chassis_registration() {
         "with the registration fixed only {fixed} of 24 miss"
     );
 }
+
+/// Declared bounds (`unknown [lo, hi]`) against a truth outside them: the
+/// truth's A radial stiffness is 13875 N/mm, the file bounds it to [5000,
+/// 12000]. Least squares holds it at 12000 and says so (no interval, not
+/// called identified); with bounds [5000, 20000] it finds the truth as if
+/// unbounded. Direct and iterative, which do not enforce bounds, find the
+/// truth and warn that it lies outside the bounds.
+#[test]
+fn truth_outside_the_declared_bounds_is_reported() {
+    let src = include_str!("../examples/mcpherson.axle");
+    let declared = src
+        .replacen(
+            "import mcpherson_loads\n",
+            "import mcpherson_loads\nparam kA = 10000 N/mm unknown [5000 N/mm, 12000 N/mm]\n",
+            1,
+        )
+        .replace("k_radial 13875 N/mm", "k_radial kA");
+    assert_ne!(declared, src);
+    let m = model(&declared);
+    let truth = mcpherson();
+    // Least squares over kA and B.k_x from σ = 0.05 mm landmarks.
+    let names: Vec<String> = ["kA", "B.k_x"].map(String::from).to_vec();
+    let u = identify::select_unknowns(&m, &names).expect("unknowns");
+    assert_eq!(u[0].bounds.upper, Some(12000.0));
+    let data = measured_from_landmarks(&truth, "thesis_table_5_1", 0.05, 21);
+    let r = identify::lsq::identify(&m, &u, &data, Default::default()).expect("lsq");
+    let (_, ka) = param(&r, "kA");
+    eprintln!("lsq kA: {ka:?}");
+    assert_eq!(ka.bound, Some(identify::BoundIssue::AtUpper));
+    assert_eq!(ka.value, Some(12000.0));
+    assert!(!ka.identifiable && ka.interval.is_none());
+    let (_, bx) = param(&r, "B.k_x");
+    assert!(bx.bound.is_none() && bx.value.is_some());
+    // The same with bounds that contain the truth: they change nothing.
+    let wide = model(&declared.replace("12000 N/mm]", "20000 N/mm]"));
+    let uw = identify::select_unknowns(&wide, &names).expect("unknowns");
+    let w = identify::lsq::identify(&wide, &uw, &data, Default::default()).expect("lsq");
+    let (_, kw) = param(&w, "kA");
+    let (lo, hi) = kw.interval.expect("identified inside its bounds");
+    assert!(
+        kw.bound.is_none() && lo <= 13875.0 && 13875.0 <= hi,
+        "{kw:?}"
+    );
+    let table = axle::cli::identify::to_table(&r);
+    assert!(table.contains("AT upper BOUND"), "{table}");
+    insta::assert_snapshot!("lsq_table_at_bound", table);
+    let json = axle::cli::identify::to_json(&r);
+    assert_eq!(
+        json["parameters"]["kA"]["bound"], "AT upper BOUND",
+        "{json}"
+    );
+    // Direct: every part pose of the truth along Table 4.4; the field name
+    // A.k_x carries the bounds of the parameter it is written as.
+    let names: Vec<String> = ["A.k_x", "A.k_y", "B.k_x"].map(String::from).to_vec();
+    let u = identify::select_unknowns(&m, &names).expect("unknowns");
+    assert_eq!(u[0].bounds.upper, Some(12000.0));
+    let set = truth.load_set_named("thesis_table_4_4").expect("set");
+    let eqs = statics::solve_set(&truth, set).expect("solves");
+    let steps: Vec<(State, Vec<_>)> = eqs
+        .into_iter()
+        .enumerate()
+        .map(|(c, e)| (e.state, truth.point_loads(set, c)))
+        .collect();
+    let all_parts = Measured::from_states(&truth, &steps);
+    let r = identify::direct::identify(&m, &u, &all_parts, Default::default()).expect("direct");
+    let (_, p) = param(&r, "A.k_x");
+    eprintln!("direct A.k_x: {p:?}");
+    assert!(rel(p.value.expect("value"), 13875.0) < 0.01);
+    assert_eq!(p.bound, Some(identify::BoundIssue::AboveUpper));
+    assert!(
+        r.notes
+            .iter()
+            .any(|n| n.contains("outside its declared bounds"))
+    );
+    // Iterative from noise-free landmarks along Table 5-1.
+    let data = measured_from_landmarks(&truth, "thesis_table_5_1", 0.0, 3);
+    let r = identify::iterative::identify(&m, &u, &data, Default::default()).expect("iterative");
+    let (_, p) = param(&r, "A.k_x");
+    eprintln!("iterative A.k_x: {p:?}");
+    assert!(rel(p.value.expect("value"), 13875.0) < 0.05);
+    assert_eq!(p.bound, Some(identify::BoundIssue::AboveUpper));
+    assert!(
+        axle::cli::identify::to_table(&r).contains("OUTSIDE bounds (above)"),
+        "{}",
+        axle::cli::identify::to_table(&r)
+    );
+}

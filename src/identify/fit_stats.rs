@@ -95,13 +95,14 @@ pub fn statistics(fit: &Fit) -> Result<Stats, IdentifyError> {
                 interval: None,
                 identifiable: false,
                 note: Some(format!(
-                    "at its {} bound {:.4e}: the data pull it beyond the declared bounds, so it is held there and has no interval (the others' intervals assume it exact)",
+                    "at its {} bound {} {}: the data pull it beyond the declared bounds, so it is held there and has no interval (the others' intervals assume it exact)",
                     if side == BoundIssue::AtLower {
                         "lower"
                     } else {
                         "upper"
                     },
-                    crate::units::to_boundary(p, u.dim)
+                    super::round_sig(crate::units::to_boundary(p, u.dim), 6),
+                    u.dim.boundary_unit()
                 )),
                 bound: Some(side),
             });

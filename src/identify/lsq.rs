@@ -604,9 +604,20 @@ pub fn identify(
             }
         })
         .collect();
+    // A value held at a bound is the bound itself (not its log round trip).
+    let values = (0..nu)
+        .map(|i| {
+            match at_bound[i] {
+                Some(BoundIssue::AtLower) => unknowns[i].bounds.lower,
+                Some(BoundIssue::AtUpper) => unknowns[i].bounds.upper,
+                _ => None,
+            }
+            .unwrap_or_else(|| to_param(&unknowns[i], x[i]))
+        })
+        .collect();
     let stats = statistics(&Fit {
         unknowns,
-        values: (0..nu).map(|i| to_param(&unknowns[i], x[i])).collect(),
+        values,
         jac: &jac,
         nuisance: nr,
         cost,
@@ -617,7 +628,12 @@ pub fn identify(
     notes.insert(
         0,
         format!(
-            "{n_eff} independent observations (6 per fitted pose, 1 per K&C channel), {nu} unknowns; a posteriori sigma factor {s0:.3}"
+            "{n_eff} independent observations (6 per fitted pose, 1 per K&C channel), {nu} unknowns{}; a posteriori sigma factor {s0:.3}",
+            if registered {
+                " and 6 registration variables"
+            } else {
+                ""
+            }
         ),
     );
     if registered {
@@ -627,6 +643,13 @@ pub fn identify(
             "the registration to the model frame (fitted from the ground's landmarks) was re-estimated with the unknowns, and its uncertainty is in their intervals: correction {:.4} mm, {:.2e} rad",
             t.norm(),
             angle
+        ));
+    }
+    let held = stats.params.iter().filter(|p| p.bound.is_some()).count();
+    if held > 0 {
+        notes.push(format!(
+            "{held} unknown(s) held at a declared bound; rank and singular values are of the other {}",
+            nu - held
         ));
     }
     let rank = stats.rank;

@@ -130,7 +130,7 @@ pub(crate) fn flag_outside_bounds(r: &mut Identified) {
         });
         p.bound = Some(issue);
         r.notes.push(format!(
-            "warning: {text}; the {} method does not enforce bounds (least squares does)",
+            "warning: {text}; the {} method does not enforce bounds (least squares does), and -o keeps the model's value",
             r.method.name()
         ));
     }
@@ -219,10 +219,18 @@ pub struct Identified {
 
 impl Identified {
     /// The model with every identified value written in (undetermined ones keep
-    /// their initial value), for `-o`.
+    /// their initial value), for `-o`. A value outside its declared bounds is
+    /// not written: the model would no longer check (E0211), and the result
+    /// already warns about it.
     pub fn apply(&self, model: &Model) -> Model {
         let mut m = model.clone();
         for (u, p) in self.unknowns.iter().zip(&self.params) {
+            if matches!(
+                p.bound,
+                Some(BoundIssue::BelowLower | BoundIssue::AboveUpper)
+            ) {
+                continue;
+            }
             if let Some(v) = p.value {
                 u.set(&mut m, v);
             }
