@@ -25,6 +25,7 @@ pub mod iterative;
 pub mod linalg;
 pub mod lsq;
 pub mod measured;
+pub mod observations;
 pub mod report;
 pub mod unknowns;
 
