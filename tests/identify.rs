@@ -235,9 +235,17 @@ fn mcpherson_iterative_from_both_initial_guesses() {
 
 /// Least squares on the McPherson: the stiffnesses of bushings A and B (10
 /// unknowns with the radial pairs tied, the thesis' question) from σ = 0.05 mm
-/// landmarks along Table 5-1, started 30 % off the truth (a nominal model
-/// to refine; free length 5 mm off). What it calls identifiable carries a 95 % interval covering the
-/// truth; the rest has no value.
+/// landmarks along Table 5-1 (chassis landmarks included, so the poses are
+/// registered and least squares re-estimates the registration), started 30 %
+/// off the truth (a nominal model to refine; free length 5 mm off). What it
+/// calls identifiable carries a real 95 % interval; the rest has no value.
+///
+/// Coverage over four seeds: each identified interval is a 95 % one, so over
+/// the ~18 intervals of the four fits the number of misses is about
+/// Binomial(18, 0.05) (the intervals of one fit are correlated, which spreads
+/// the count but not its mean of 0.9): P(≥ 4) = 1.1 %. At most 3 misses are
+/// allowed. (Measured: 2 of 18, both in seed 1: A.kt_x 13488 [11591, 15695]
+/// against 11000, B.k_x 306.6 [303.9, 309.4] against 310.)
 #[test]
 fn mcpherson_lsq_intervals_cover_the_truth() {
     let truth = mcpherson();
@@ -253,7 +261,8 @@ fn mcpherson_lsq_intervals_cover_the_truth() {
         u.set(&mut init, v);
     }
     let u0 = ab_unknowns(&init);
-    for seed in [1u64] {
+    let (mut intervals, mut misses) = (0, 0);
+    for seed in 1..=4u64 {
         let data = measured_from_landmarks(&truth, "thesis_table_5_1", 0.05, seed);
         let r = identify::lsq::identify(&init, &u0, &data, Default::default()).expect("lsq");
         eprintln!(
@@ -267,37 +276,40 @@ fn mcpherson_lsq_intervals_cover_the_truth() {
         let mut identified = 0;
         for ((un, p), tu) in r.unknowns.iter().zip(&r.params).zip(&u_truth) {
             let b = |v: f64| axle::units::to_boundary(v, un.dim);
+            let covers = p
+                .interval
+                .map(|(lo, hi)| lo <= tu.initial && tu.initial <= hi);
             eprintln!(
-                "  {} truth {} value {:?} interval {:?}",
+                "  {} truth {} value {:?} interval {:?} {}",
                 un.label(),
                 b(tu.initial),
                 p.value.map(b),
-                p.interval.map(|(a, c)| (b(a), b(c)))
+                p.interval.map(|(a, c)| (b(a), b(c))),
+                match covers {
+                    Some(true) => "covers",
+                    Some(false) => "MISSES",
+                    None => "",
+                }
             );
-            if let Some((_, hi)) = p.interval {
-                identified += 1;
-                // Marginal 95 % intervals of ~6 parameters all cover the truth
-                // only ~75 % of the time; the check widens them to 99.9 %
-                // (3.29 σ) so that it tests the size of the uncertainty, not
-                // luck. (Seed 1 puts A.kt_x just outside its 95 % interval.)
-                let v = p.value.expect("value");
-                let w = (hi / v).ln() * 3.29 / 1.96;
-                let (lo, hi) = (v * (-w).exp(), v * w.exp());
-                assert!(
-                    lo <= tu.initial && tu.initial <= hi,
-                    "{}: truth {} outside [{lo}, {hi}]",
-                    un.label(),
-                    tu.initial
-                );
-            } else {
-                assert!(p.value.is_none() && !p.identifiable);
+            match covers {
+                Some(c) => {
+                    identified += 1;
+                    intervals += 1;
+                    misses += usize::from(!c);
+                }
+                None => assert!(p.value.is_none() && !p.identifiable),
             }
         }
-        assert!(identified >= 4, "only {identified} identified");
+        assert!(identified >= 4, "seed {seed}: only {identified} identified");
         let (_, ax) = param(&r, "A.k_x");
         let (_, bx) = param(&r, "B.k_x");
         assert!(ax.identifiable && bx.identifiable);
     }
+    eprintln!("{misses} of {intervals} 95 % intervals miss the truth");
+    assert!(
+        misses <= 3,
+        "{misses} of {intervals} 95 % intervals miss the truth"
+    );
 }
 
 /// The McPherson with bushing A written per axis (so k_x and k_y may differ).
@@ -670,4 +682,167 @@ fn parameter_marked_unknown_in_the_file_is_identified() {
     let (lo, hi) = p.interval.expect("identified");
     eprintln!("kA: {:?} [{lo}, {hi}]", p.value);
     assert!(lo <= 13875.0 && 13875.0 <= hi && hi / lo < 1.1, "{p:?}");
+}
+
+/// Honest intervals with the chassis measured: the landmark poses are
+/// registered to the model frame through one ground pose fitted from every
+/// step, an error common to all steps. Least squares re-estimates that
+/// registration (six nuisance variables, observed by the ground's landmarks)
+/// with the unknowns, so its uncertainty is in their intervals. Over 8 seeds
+/// of σ = 0.05 mm noise, count how often each 95 % interval covers the truth.
+///
+/// With honest intervals a miss is a Bernoulli event of probability 0.05; the
+/// misses of one parameter over 8 independent seeds are Binomial(8, 0.05):
+/// P(≥ 2) = 1 − 0.95⁸ − 8·0.05·0.95⁷ = 0.057, P(≥ 3) = 0.0058. The test allows
+/// at most 2 misses per parameter, so an honest method fails it with
+/// probability below 1 % per parameter; before the registration was
+/// estimated A.k_x missed in 2 of 3 seeds (an interval too narrow by a factor
+/// of about 3 misses in most seeds). The seeds are fixed, so the test is
+/// deterministic; the bound says it is not tuned to luck.
+#[test]
+fn lsq_intervals_cover_the_truth_with_the_chassis_registration() {
+    let truth = mcpherson();
+    let names: Vec<String> = ["A.k_x", "B.k_x", "spring.k"].map(String::from).to_vec();
+    let u_truth = identify::select_unknowns(&truth, &names).expect("unknowns");
+    let mut init = truth.clone();
+    for x in &u_truth {
+        x.set(&mut init, x.initial * 1.2);
+    }
+    let u0 = identify::select_unknowns(&init, &names).expect("unknowns");
+    let mut misses = vec![0usize; names.len()];
+    let mut misses_fixed = vec![0usize; names.len()];
+    for seed in 1..=8u64 {
+        let data = measured_from_landmarks(&truth, "thesis_table_5_1", 0.05, seed);
+        assert!(data.steps.iter().all(|s| s.ground.is_some()));
+        let r = identify::lsq::identify(&init, &u0, &data, Default::default()).expect("lsq");
+        assert!(
+            r.notes.iter().any(|n| n.contains("registration")),
+            "{:?}",
+            r.notes
+        );
+        // The same data with the registration taken as exact (the old noise model).
+        let mut fixed = data.clone();
+        for s in &mut fixed.steps {
+            s.ground = None;
+        }
+        let f = identify::lsq::identify(&init, &u0, &fixed, Default::default()).expect("lsq");
+        for (k, t) in u_truth.iter().enumerate() {
+            let (lo, hi) = r.params[k].interval.expect("identified");
+            let (flo, fhi) = f.params[k].interval.expect("identified");
+            let covers = lo <= t.initial && t.initial <= hi;
+            if !covers {
+                misses[k] += 1;
+            }
+            if !(flo <= t.initial && t.initial <= fhi) {
+                misses_fixed[k] += 1;
+            }
+            eprintln!(
+                "seed {seed} {}: truth {:.6e} joint [{lo:.6e}, {hi:.6e}] {} fixed-registration [{flo:.6e}, {fhi:.6e}]",
+                names[k],
+                t.initial,
+                if covers { "covers" } else { "MISSES" }
+            );
+        }
+    }
+    eprintln!("misses of 8: joint {misses:?}, registration fixed {misses_fixed:?}");
+    for (k, n) in names.iter().enumerate() {
+        assert!(misses[k] <= 2, "{n}: {} misses of 8", misses[k]);
+    }
+    // All 24 intervals: Binomial(24, 0.05), P(≥ 4) = 3 %.
+    let total: usize = misses.iter().sum();
+    assert!(total <= 3, "{total} of 24 intervals miss the truth");
+    // The check has power: the same data with the registration taken as
+    // exact (the noise model before) miss far more often (measured 6 of 24).
+    let fixed: usize = misses_fixed.iter().sum();
+    assert!(
+        fixed > 3,
+        "with the registration fixed only {fixed} of 24 miss"
+    );
+}
+
+/// Declared bounds (`unknown [lo, hi]`) against a truth outside them: the
+/// truth's A radial stiffness is 13875 N/mm, the file bounds it to [5000,
+/// 12000]. Least squares holds it at 12000 and says so (no interval, not
+/// called identified); with bounds [5000, 20000] it finds the truth as if
+/// unbounded. Direct and iterative, which do not enforce bounds, find the
+/// truth and warn that it lies outside the bounds.
+#[test]
+fn truth_outside_the_declared_bounds_is_reported() {
+    let src = include_str!("../examples/mcpherson.axle");
+    let declared = src
+        .replacen(
+            "import mcpherson_loads\n",
+            "import mcpherson_loads\nparam kA = 10000 N/mm unknown [5000 N/mm, 12000 N/mm]\n",
+            1,
+        )
+        .replace("k_radial 13875 N/mm", "k_radial kA");
+    assert_ne!(declared, src);
+    let m = model(&declared);
+    let truth = mcpherson();
+    // Least squares over kA and B.k_x from σ = 0.05 mm landmarks.
+    let names: Vec<String> = ["kA", "B.k_x"].map(String::from).to_vec();
+    let u = identify::select_unknowns(&m, &names).expect("unknowns");
+    assert_eq!(u[0].bounds.upper, Some(12000.0));
+    let data = measured_from_landmarks(&truth, "thesis_table_5_1", 0.05, 21);
+    let r = identify::lsq::identify(&m, &u, &data, Default::default()).expect("lsq");
+    let (_, ka) = param(&r, "kA");
+    eprintln!("lsq kA: {ka:?}");
+    assert_eq!(ka.bound, Some(identify::BoundIssue::AtUpper));
+    assert_eq!(ka.value, Some(12000.0));
+    assert!(!ka.identifiable && ka.interval.is_none());
+    let (_, bx) = param(&r, "B.k_x");
+    assert!(bx.bound.is_none() && bx.value.is_some());
+    // The same with bounds that contain the truth: they change nothing.
+    let wide = model(&declared.replace("12000 N/mm]", "20000 N/mm]"));
+    let uw = identify::select_unknowns(&wide, &names).expect("unknowns");
+    let w = identify::lsq::identify(&wide, &uw, &data, Default::default()).expect("lsq");
+    let (_, kw) = param(&w, "kA");
+    let (lo, hi) = kw.interval.expect("identified inside its bounds");
+    assert!(
+        kw.bound.is_none() && lo <= 13875.0 && 13875.0 <= hi,
+        "{kw:?}"
+    );
+    let table = axle::cli::identify::to_table(&r);
+    assert!(table.contains("AT upper BOUND"), "{table}");
+    insta::assert_snapshot!("lsq_table_at_bound", table);
+    let json = axle::cli::identify::to_json(&r);
+    assert_eq!(
+        json["parameters"]["kA"]["bound"], "AT upper BOUND",
+        "{json}"
+    );
+    // Direct: every part pose of the truth along Table 4.4; the field name
+    // A.k_x carries the bounds of the parameter it is written as.
+    let names: Vec<String> = ["A.k_x", "A.k_y", "B.k_x"].map(String::from).to_vec();
+    let u = identify::select_unknowns(&m, &names).expect("unknowns");
+    assert_eq!(u[0].bounds.upper, Some(12000.0));
+    let set = truth.load_set_named("thesis_table_4_4").expect("set");
+    let eqs = statics::solve_set(&truth, set).expect("solves");
+    let steps: Vec<(State, Vec<_>)> = eqs
+        .into_iter()
+        .enumerate()
+        .map(|(c, e)| (e.state, truth.point_loads(set, c)))
+        .collect();
+    let all_parts = Measured::from_states(&truth, &steps);
+    let r = identify::direct::identify(&m, &u, &all_parts, Default::default()).expect("direct");
+    let (_, p) = param(&r, "A.k_x");
+    eprintln!("direct A.k_x: {p:?}");
+    assert!(rel(p.value.expect("value"), 13875.0) < 0.01);
+    assert_eq!(p.bound, Some(identify::BoundIssue::AboveUpper));
+    assert!(
+        r.notes
+            .iter()
+            .any(|n| n.contains("outside its declared bounds"))
+    );
+    // Iterative from noise-free landmarks along Table 5-1.
+    let data = measured_from_landmarks(&truth, "thesis_table_5_1", 0.0, 3);
+    let r = identify::iterative::identify(&m, &u, &data, Default::default()).expect("iterative");
+    let (_, p) = param(&r, "A.k_x");
+    eprintln!("iterative A.k_x: {p:?}");
+    assert!(rel(p.value.expect("value"), 13875.0) < 0.05);
+    assert_eq!(p.bound, Some(identify::BoundIssue::AboveUpper));
+    assert!(
+        axle::cli::identify::to_table(&r).contains("OUTSIDE bounds (above)"),
+        "{}",
+        axle::cli::identify::to_table(&r)
+    );
 }

@@ -8,7 +8,7 @@
 use super::Exit;
 use crate::diagnostic::render;
 use crate::identify::measured::{self, Measured};
-use crate::identify::{self, Identified};
+use crate::identify::{self, BoundIssue, Identified};
 use crate::source::SourceMap;
 use crate::units::{from_boundary, to_boundary};
 use serde_json::{Value, json};
@@ -317,17 +317,19 @@ pub fn to_json(r: &Identified) -> Value {
     for (u, p) in r.unknowns.iter().zip(&r.params) {
         let b = |v: f64| to_boundary(v, u.dim);
         for name in &u.names {
-            params.insert(
-                name.clone(),
-                json!({
+            let mut entry = json!({
                     "initial": num(b(p.initial)),
                     "value": p.value.map_or(Value::Null, |v| num(b(v))),
                     "unit": u.dim.boundary_unit(),
                     "interval": p.interval.map_or(Value::Null, |(lo, hi)| json!([num(b(lo)), num(b(hi))])),
                     "identifiable": p.identifiable,
                     "note": p.note,
-                }),
-            );
+            });
+            // Only present when the value is at or beyond its declared bounds.
+            if let Some(issue) = p.bound {
+                entry["bound"] = json!(bound_word(issue));
+            }
+            params.insert(name.clone(), entry);
         }
     }
     let labels: Vec<String> = r.unknowns.iter().map(|u| u.label()).collect();
@@ -359,6 +361,16 @@ fn fmt_num(v: f64) -> String {
     format!("{v}")
 }
 
+/// How a value relates to its declared bounds, in the words of the table and JSON.
+fn bound_word(issue: BoundIssue) -> &'static str {
+    match issue {
+        BoundIssue::AtLower => "AT lower BOUND",
+        BoundIssue::AtUpper => "AT upper BOUND",
+        BoundIssue::BelowLower => "OUTSIDE bounds (below)",
+        BoundIssue::AboveUpper => "OUTSIDE bounds (above)",
+    }
+}
+
 pub fn to_table(r: &Identified) -> String {
     use std::fmt::Write;
     let mut o = String::new();
@@ -378,10 +390,10 @@ pub fn to_table(r: &Identified) -> String {
         let interval = p.interval.map_or("-".to_string(), |(lo, hi)| {
             format!("[{}, {}]", fmt_num(b(lo)), fmt_num(b(hi)))
         });
-        let verdict = if p.identifiable {
-            "identified".to_string()
-        } else {
-            "NOT identified".to_string()
+        let verdict = match (p.bound, p.identifiable) {
+            (Some(issue), _) => bound_word(issue).to_string(),
+            (None, true) => "identified".to_string(),
+            (None, false) => "NOT identified".to_string(),
         };
         let _ = writeln!(
             o,

@@ -257,6 +257,7 @@ pub fn identify(
             interval: None,
             identifiable: false,
             note: None,
+            bound: None,
         })
         .collect();
     let why_not = |j: usize| -> String {
@@ -331,7 +332,7 @@ pub fn identify(
         nl,
         r
     ));
-    Ok(Identified {
+    let mut out = Identified {
         method: Method::Direct,
         unknowns: unknowns.to_vec(),
         params,
@@ -343,5 +344,7 @@ pub fn identify(
         correlation: None,
         sigma0: if dof > 0 { Some(s2.sqrt()) } else { None },
         notes,
-    })
+    };
+    super::flag_outside_bounds(&mut out);
+    Ok(out)
 }

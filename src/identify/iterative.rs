@@ -277,9 +277,10 @@ pub fn identify(
                             opts.threshold, detail[i]
                         )
                     }),
+                    bound: None,
                 })
                 .collect();
-            return Ok(Identified {
+            let mut out = Identified {
                 method: Method::Iterative,
                 unknowns: unknowns.to_vec(),
                 params,
@@ -294,7 +295,9 @@ pub fn identify(
                     "converged to relative tolerance {} in {it} iterations",
                     opts.tolerance
                 )],
-            });
+            };
+            super::flag_outside_bounds(&mut out);
+            return Ok(out);
         }
         if it == opts.max_iterations {
             return Err(IdentifyError::new(

@@ -31,6 +31,11 @@ pub struct MeasuredStep {
     /// `None` for a part not measured at this step. Ground is the identity.
     pub poses: Vec<Option<(Vec3, Mat3)>>,
     pub kc: Option<KcObservation>,
+    /// The measured pose of the ground (chassis) at this step after the
+    /// registration to the model frame, when the ground has landmarks. The
+    /// registration is one rigid transform fitted from every step, so its error
+    /// is common to all steps; least squares re-estimates it from these poses.
+    pub ground: Option<(Vec3, Mat3)>,
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -57,7 +62,9 @@ impl Measured {
             for (part, pose) in &sp.parts {
                 p[part.index()] = Some((pose.translation, pose.rotation));
             }
+            let mut ground = None;
             if let Some(g) = model.ground() {
+                ground = p[g.index()];
                 p[g.index()] = Some((Vec3::zeros(), Mat3::identity()));
             }
             steps.push(MeasuredStep {
@@ -65,6 +72,7 @@ impl Measured {
                 loads: l.clone(),
                 poses: p,
                 kc: None,
+                ground,
             });
         }
         if steps.is_empty() {
@@ -86,6 +94,7 @@ impl Measured {
                     .map(|p| Some(st.part_pose(PartId(p as u32))))
                     .collect(),
                 kc: None,
+                ground: None,
             })
             .collect();
         Measured { steps }

@@ -20,10 +20,12 @@
 pub mod columns;
 pub mod combinations;
 pub mod direct;
+pub mod fit_stats;
 pub mod iterative;
 pub mod linalg;
 pub mod lsq;
 pub mod measured;
+pub mod observations;
 pub mod report;
 pub mod unknowns;
 
@@ -83,6 +85,56 @@ pub struct ParamResult {
     pub identifiable: bool,
     /// Why a parameter is not identified, or a remark on its value.
     pub note: Option<String>,
+    /// The value's relation to the unknown's declared bounds, when it is not
+    /// plainly inside them.
+    pub bound: Option<BoundIssue>,
+}
+
+/// A value at or beyond the bounds declared with `unknown [lo, hi]`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BoundIssue {
+    /// Least squares held it at the bound (the data pull it beyond).
+    AtLower,
+    AtUpper,
+    /// A method that does not enforce bounds (direct, iterative) found it outside.
+    BelowLower,
+    AboveUpper,
+}
+
+/// Direct and iterative solve without bounds (a linear system, a regression):
+/// a value outside its unknown's declared bounds is flagged with a note, never
+/// returned silently as if it were admissible.
+pub(crate) fn flag_outside_bounds(r: &mut Identified) {
+    for (u, p) in r.unknowns.iter().zip(r.params.iter_mut()) {
+        let Some(v) = p.value else { continue };
+        let issue = match (u.bounds.lower, u.bounds.upper) {
+            (Some(lo), _) if v < lo => BoundIssue::BelowLower,
+            (_, Some(hi)) if v > hi => BoundIssue::AboveUpper,
+            _ => continue,
+        };
+        let b = |x: Option<f64>| {
+            x.map_or("open".to_string(), |x| {
+                format!("{}", round_sig(crate::units::to_boundary(x, u.dim), 6))
+            })
+        };
+        let text = format!(
+            "{} = {} {} lies outside its declared bounds [{}, {}]",
+            u.label(),
+            round_sig(crate::units::to_boundary(v, u.dim), 6),
+            u.dim.boundary_unit(),
+            b(u.bounds.lower),
+            b(u.bounds.upper)
+        );
+        p.note = Some(match p.note.take() {
+            Some(n) => format!("{text}; {n}"),
+            None => text.clone(),
+        });
+        p.bound = Some(issue);
+        r.notes.push(format!(
+            "warning: {text}; the {} method does not enforce bounds (least squares does), and -o keeps the model's value",
+            r.method.name()
+        ));
+    }
 }
 
 /// A linear combination of unknowns the data determine when its terms are not
@@ -168,10 +220,18 @@ pub struct Identified {
 
 impl Identified {
     /// The model with every identified value written in (undetermined ones keep
-    /// their initial value), for `-o`.
+    /// their initial value), for `-o`. A value outside its declared bounds is
+    /// not written: the model would no longer check (E0211), and the result
+    /// already warns about it.
     pub fn apply(&self, model: &Model) -> Model {
         let mut m = model.clone();
         for (u, p) in self.unknowns.iter().zip(&self.params) {
+            if matches!(
+                p.bound,
+                Some(BoundIssue::BelowLower | BoundIssue::AboveUpper)
+            ) {
+                continue;
+            }
             if let Some(v) = p.value {
                 u.set(&mut m, v);
             }

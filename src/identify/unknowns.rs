@@ -6,7 +6,7 @@
 
 use super::IdentifyError;
 use crate::model::address::Address;
-use crate::model::{AxisLaw, BushingId, ElementId, Model, SpringId, SpringLaw, Symmetry};
+use crate::model::{AxisLaw, Bounds, BushingId, ElementId, Model, SpringId, SpringLaw, Symmetry};
 use crate::units::Dim;
 
 /// One unknown: one or more addresses that always share a value.
@@ -18,6 +18,9 @@ pub struct Unknown {
     pub dim: Dim,
     /// Value in the model, internal units.
     pub initial: f64,
+    /// Bounds declared with `unknown [lo, hi]` (internal units); open for
+    /// element fields and unbounded parameters.
+    pub bounds: Bounds,
 }
 
 impl Unknown {
@@ -26,6 +29,7 @@ impl Unknown {
         Unknown {
             dim: addrs[0].dim(model),
             initial: addrs[0].get(model),
+            bounds: bounds_of(model, addrs[0]),
             addrs,
             names,
         }
@@ -59,6 +63,23 @@ impl Unknown {
     pub fn element(&self) -> ElementId {
         self.addrs[0].element()
     }
+}
+
+/// The declared bounds of an unknown: a parameter's own, or, for a field
+/// written as a parameter (`k_radial kA`), that parameter's. Setting a bound
+/// field sets its parameter, which is how the parameter is found here (the
+/// model does not expose the binding otherwise).
+fn bounds_of(model: &Model, a: Address) -> Bounds {
+    let of = |p: usize| model.params[p].unknown.unwrap_or_default();
+    if let Address::Param(p) = a {
+        return of(p.index());
+    }
+    let mut probe = model.clone();
+    let v = a.get(model);
+    a.set(&mut probe, if v.is_finite() { v * 2.0 + 1.0 } else { 1.0 });
+    (0..model.params.len())
+        .find(|&k| probe.params[k].value != model.params[k].value)
+        .map_or_else(Bounds::default, of)
 }
 
 fn linear(l: &AxisLaw) -> bool {
