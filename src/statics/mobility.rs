@@ -167,22 +167,124 @@ pub fn analyse(p: &Problem) -> Mobility {
     let kr = null.transpose() * (&k + k.transpose()) * 0.5 * &null;
     let eig = kr.symmetric_eigen();
     let kmax = eig.eigenvalues.iter().cloned().fold(0.0, f64::max);
+    let describe = |v: DVector<f64>, ratio: f64| {
+        let dq = DVector::from_fn(n, |r, _| v[r] * s(r));
+        let mut motion = describe_motion(model, layout, &dq, p.length);
+        motion.ratio = ratio;
+        motion
+    };
+    let mut free = Vec::new();
     for (i, &ev) in eig.eigenvalues.iter().enumerate() {
         let ratio = if kmax > 0.0 { ev / kmax } else { 0.0 };
         if ratio >= NEARLY_UNRESTRAINED {
             continue;
         }
         let v = &null * eig.eigenvectors.column(i);
-        let dq = DVector::from_fn(n, |r, _| v[r] * s(r));
-        let mut motion = describe_motion(model, layout, &dq, p.length);
-        motion.ratio = ratio;
         if ratio < -NEARLY_UNRESTRAINED {
-            mob.unstable.push(motion);
+            mob.unstable.push(describe(v, ratio));
         } else if ratio < UNRESTRAINED {
-            mob.unrestrained.push(motion);
+            free.push(v);
         } else {
-            mob.nearly_unrestrained.push(motion);
+            mob.nearly_unrestrained.push(describe(v, ratio));
+        }
+    }
+    // The free motions share one eigenvalue (zero), so the eigen solver may
+    // return any mixture of them: two parts free at once could be described as
+    // one motion of both. Separate them before naming a part.
+    if !free.is_empty() {
+        let separated = separate(&DMatrix::from_columns(&free));
+        for v in separated.column_iter() {
+            mob.unrestrained.push(describe(v.into_owned(), 0.0));
         }
     }
     mob
+}
+
+/// The sparsest basis of the span of `basis`'s columns that Gauss-Jordan
+/// elimination with full pivoting finds (the reduced row-echelon form of its
+/// transpose), each vector normalised. Motions that involve disjoint sets of
+/// coordinates (two independently free parts) come out apart, whatever
+/// mixture of them the columns were.
+fn separate(basis: &DMatrix<f64>) -> DMatrix<f64> {
+    let mut a = basis.transpose();
+    let (m, n) = a.shape();
+    let scale = a.amax();
+    let mut used = vec![false; n];
+    for i in 0..m {
+        let mut best = (0.0, i, 0);
+        for r in i..m {
+            for j in (0..n).filter(|&j| !used[j]) {
+                if a[(r, j)].abs() > best.0 {
+                    best = (a[(r, j)].abs(), r, j);
+                }
+            }
+        }
+        let (size, r, j) = best;
+        if size <= 1e-12 * scale {
+            break;
+        }
+        used[j] = true;
+        a.swap_rows(i, r);
+        let pivot = a[(i, j)];
+        a.row_mut(i).scale_mut(1.0 / pivot);
+        let row = a.row(i).into_owned();
+        for k in (0..m).filter(|&k| k != i) {
+            let f = a[(k, j)];
+            if f != 0.0 {
+                for c in 0..n {
+                    a[(k, c)] -= f * row[c];
+                }
+            }
+        }
+    }
+    for mut row in a.row_iter_mut() {
+        let norm = row.norm();
+        if norm > 0.0 {
+            row /= norm;
+        }
+    }
+    a.transpose()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two motions on disjoint coordinates (a part turning, another sliding),
+    /// handed over as two different mixtures of both, come back apart.
+    #[test]
+    fn separate_recovers_motions_of_disjoint_parts_from_a_mixture() {
+        let mut turn = DVector::zeros(12);
+        turn[5] = 1.0; // part 0 about z
+        let mut slide = DVector::zeros(12);
+        slide[6] = 0.6; // part 1 along (0.6, 0.8, 0)
+        slide[7] = 0.8;
+        let mixed =
+            DMatrix::from_columns(&[&turn * 0.8 + &slide * 0.6, &turn * 0.6 - &slide * 0.8]);
+        let out = separate(&mixed);
+        assert_eq!(out.ncols(), 2);
+        for expected in [&turn, &slide] {
+            let hit = out
+                .column_iter()
+                .any(|c| (c - expected).norm() < 1e-12 || (c + expected).norm() < 1e-12);
+            assert!(hit, "{expected} not among {out}");
+        }
+    }
+
+    /// A motion of two coupled parts is not split: the span is kept.
+    #[test]
+    fn separate_keeps_the_span() {
+        let v = DVector::from_fn(12, |i, _| (i as f64 + 1.0).sin());
+        let w = DVector::from_fn(12, |i, _| (i as f64 * 0.7).cos());
+        let basis = DMatrix::from_columns(&[v, w]);
+        let out = separate(&basis);
+        // Each output column lies in the input span: its residual after
+        // projection onto the span is zero.
+        let q = basis.clone().qr().q();
+        for c in out.column_iter() {
+            let r = c - &q * (q.transpose() * c);
+            assert!(r.norm() < 1e-12, "{r}");
+            assert!((c.norm() - 1.0).abs() < 1e-12);
+        }
+    }
 }
