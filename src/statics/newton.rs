@@ -276,3 +276,68 @@ pub(crate) fn softest_motion(
         describe_motion(&p.model, &p.layout, &dq, p.length),
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Vec3;
+    use crate::statics::{State, solve};
+
+    fn mcpherson() -> crate::model::Model {
+        let (_, c) = crate::check::check_str(
+            "mcpherson.axle",
+            include_str!("../../examples/mcpherson.axle"),
+        );
+        c.model.expect("the example checks")
+    }
+
+    fn wheel_load(m: &crate::model::Model, fx: f64, fy: f64, fz: f64) -> Vec<PointLoad> {
+        vec![PointLoad {
+            marker: m.wheels[0].contact,
+            force: Vec3::new(fx, fy, fz),
+            torque: Vec3::zeros(),
+        }]
+    }
+
+    /// The whole Newton matrix (elements, the moving load, the λ-weighted
+    /// constraint curvature, the constraint Jacobian), scaled as Newton uses it,
+    /// equals a central difference of the scaled residual, at a loaded McPherson
+    /// state away from equilibrium (nonzero multipliers, bushings deflected).
+    #[test]
+    fn newton_matrix_equals_a_finite_difference_jacobian() {
+        let m = mcpherson();
+        let p = Problem::new(&m).expect("problem");
+        let st = solve(&p, &wheel_load(&m, 0.0, 0.0, 1500.0), &State::design(&m))
+            .expect("c1")
+            .state;
+        let loads = wheel_load(&m, 2000.0, -3000.0, 4500.0);
+        let sys = assemble(&p, &st, &loads).expect("assembles");
+        assert!(sys.r.amax() > 100.0, "away from equilibrium");
+        let (n, nm) = (p.layout.n(), p.kept.len());
+        let h = 1e-6;
+        let (mut worst_k, mut worst_j) = (0.0f64, 0.0f64);
+        for c in 0..n {
+            let at = |s: f64| {
+                let mut t = st.clone();
+                let mut dq = DVector::zeros(n);
+                dq[c] = s * col_scale(c, p.length);
+                t.apply(&p.layout, &dq);
+                let sy = assemble(&p, &t, &loads).expect("assembles");
+                (sy.r, sy.phi)
+            };
+            let ((rp, pp), (rm, pm)) = (at(h), at(-h));
+            let scale = 1.0 + sys.k.column(c).amax();
+            for r in 0..n {
+                let fd = (rp[r] - rm[r]) / (2.0 * h);
+                worst_k = worst_k.max((fd - sys.k[(r, c)]).abs() / scale);
+            }
+            for r in 0..nm {
+                // Rows have unit norm, so this error is relative.
+                let fd = (pp[r] - pm[r]) / (2.0 * h);
+                worst_j = worst_j.max((fd - sys.jac[(r, c)]).abs());
+            }
+        }
+        eprintln!("Newton matrix vs central differences: K {worst_k:.1e}, J {worst_j:.1e}");
+        assert!(worst_k < 1e-6 && worst_j < 1e-6, "{worst_k} {worst_j}");
+    }
+}
