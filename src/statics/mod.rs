@@ -12,6 +12,7 @@ pub mod constraint;
 pub mod coords;
 pub mod error;
 pub mod forces;
+mod linear;
 pub mod mobility;
 pub mod newton;
 pub mod path;
@@ -33,7 +34,7 @@ use crate::geom::Vec3;
 use crate::model::{ElementId, JointId, LoadSetId, Model, PointLoad};
 use constraint::{Equation, evaluate};
 use coords::Layout;
-use newton::{Failure, Homotopy, assemble, errors, newton};
+use newton::{Failure, Homotopy, Solver, assemble, errors, newton};
 use redundancy::{independence, scaled_jacobian};
 
 /// A model compiled for the statics backend: coordinate layout, constraint
@@ -143,16 +144,12 @@ fn interpolate(from: &[PointLoad], to: &[PointLoad], s: f64) -> Vec<PointLoad> {
     out
 }
 
-/// The force scale of a solve: applied loads and the element forces at the start (N).
-fn force_scale(p: &Problem, loads: &[PointLoad], start: &State) -> f64 {
-    let mut f = 1.0f64;
+/// The force scale of a solve: applied loads and the element forces at the
+/// start (`element_scale`, N).
+fn force_scale(p: &Problem, loads: &[PointLoad], start: &State, element_scale: f64) -> f64 {
+    let mut f = 1.0f64.max(element_scale);
     for l in loads.iter().chain(start.loads.iter()) {
         f = f.max(l.force.norm() + l.torque.norm() / p.length);
-    }
-    if let Ok(ws) = forces::element_wrenches(&p.model, &p.layout, start) {
-        for (_, w) in ws {
-            f = f.max(w.g.norm() + w.m.norm() / p.length);
-        }
     }
     f
 }
@@ -198,24 +195,41 @@ pub fn solve(
             "a load component is not a finite number",
         ));
     }
-    let force = force_scale(problem, loads, start);
-    let from = start.loads.clone();
+    let mut sv = Solver::new(problem, start);
     let mut state = start.clone();
-    let (r0, phi0) = match assemble(problem, start, &from) {
-        Ok(sys) => (sys.r, sys.phi),
-        Err(e) => return Err(e),
-    };
+    let m = problem.kept.len();
+    if state.lambda.len() != m {
+        state.lambda = vec![0.0; m];
+    }
+    // The first full step starts from this evaluation, which also gives the
+    // element forces of the force scale.
+    sv.ws.eval(problem, &state, loads, true)?;
+    let force = force_scale(problem, loads, start, sv.ws.element_scale);
+    let from = start.loads.clone();
+    // The start's own residual, needed only once a sub-step is taken.
+    let mut start_residual: Option<(Vec<f64>, Vec<f64>)> = None;
+    let mut evaluated = true;
     let (mut s, mut ds, mut steps, mut iterations) = (0.0f64, 1.0f64, 0usize, 0usize);
     while s < 1.0 {
         let target = if s + ds >= 1.0 - 1e-12 { 1.0 } else { s + ds };
         let l = interpolate(&from, loads, target);
-        let mut trial = state.clone();
+        let (r0, phi0) = if target < 1.0 {
+            if start_residual.is_none() {
+                let mut w0 = newton::Workspace::new(problem);
+                w0.eval(problem, start, &from, false)?;
+                start_residual = Some((w0.r, w0.phi));
+            }
+            start_residual.clone().unwrap_or_default()
+        } else {
+            (Vec::new(), Vec::new())
+        };
         let h = Homotopy {
-            r0: r0.clone(),
-            phi0: phi0.clone(),
+            r0,
+            phi0,
             remaining: 1.0 - target,
         };
-        match newton(problem, &l, &mut trial, force, &h) {
+        let mut trial = state.clone();
+        match newton(problem, &l, &mut trial, force, &h, &mut sv, evaluated) {
             Ok(it) => {
                 iterations += it;
                 steps += 1;
@@ -233,39 +247,71 @@ pub fn solve(
                 }
             }
         }
+        evaluated = false;
     }
-    finish(problem, state, iterations, steps.saturating_sub(1), force)
+    finish(
+        problem,
+        state,
+        iterations,
+        steps.saturating_sub(1),
+        force,
+        &mut sv,
+    )
 }
 
-/// Checks the left-out redundant equations and collects the reactions.
+/// Below this estimate of the Newton matrix's reciprocal condition the exact
+/// singular-value test runs; it flags at `1e-12`, so the estimate (accurate to a
+/// small factor) has four orders of magnitude of margin.
+const CHECK_SINGULAR_BELOW: f64 = 1e-8;
+
+/// Checks the equilibrium is isolated and the left-out redundant equations
+/// hold, and collects the reactions. `sv.ws` holds the residual and Newton
+/// matrix at `state`; `sv.lu` factorises the matrix of the last Newton
+/// iteration (a state within the last, converging, step) when `sv.factored`.
 fn finish(
     p: &Problem,
     state: State,
     iterations: usize,
     substeps: usize,
     force: f64,
+    sv: &mut Solver,
 ) -> Result<Equilibrium, StaticsError> {
-    let sys = assemble(p, &state, &state.loads)?;
-    let (ef, ec) = errors(p, &sys, force);
+    let (ef, ec) = sv.ws.errors(p, force);
     // A load that happens not to excite a free motion still converges; the
     // equilibrium is then not unique, which is an error, not a result.
-    if let Some(e) = newton::singular_direction(p, &newton::kkt(&sys)) {
+    if !sv.factored {
+        sv.lu.factor(sv.ws.a.as_ref());
+    }
+    if sv.lu.reciprocal_condition() < CHECK_SINGULAR_BELOW
+        && let Some(e) = newton::singular_direction(p, &sv.ws.matrix())
+    {
         return Err(e);
     }
-    let all: Vec<usize> = (0..p.equations.len()).collect();
-    let sj = scaled_jacobian(&p.model, &p.layout, &state, &p.equations, &all, p.length);
-    for (k, v) in sj.phi.iter().enumerate() {
-        // Redundant equations hold only as well as the geometry's consistency.
-        if !p.kept.contains(&k) && v.abs() > 1e-6 * p.length {
-            return Err(StaticsError::new(
-                StaticsErrorKind::InconsistentRedundancy,
-                vec![ElementId::Joint(p.equations[k].joint)],
-                format!(
-                    "the redundant equation {} is violated by {:.3e} at equilibrium: the joints of the loop disagree",
-                    p.equations[k].primitive.describe(),
-                    v
-                ),
-            ));
+    if p.kept.len() < p.equations.len() {
+        let left_out: Vec<usize> = (0..p.equations.len())
+            .filter(|k| !p.kept.contains(k))
+            .collect();
+        let sj = scaled_jacobian(
+            &p.model,
+            &p.layout,
+            &state,
+            &p.equations,
+            &left_out,
+            p.length,
+        );
+        for (&k, v) in left_out.iter().zip(sj.phi.iter()) {
+            // Redundant equations hold only as well as the geometry's consistency.
+            if v.abs() > 1e-6 * p.length {
+                return Err(StaticsError::new(
+                    StaticsErrorKind::InconsistentRedundancy,
+                    vec![ElementId::Joint(p.equations[k].joint)],
+                    format!(
+                        "the redundant equation {} is violated by {:.3e} at equilibrium: the joints of the loop disagree",
+                        p.equations[k].primitive.describe(),
+                        v
+                    ),
+                ));
+            }
         }
     }
     let mut reactions: Vec<Reaction> = Vec::new();
