@@ -15,19 +15,21 @@
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::lu::partial_pivoting::{factor, solve};
 use faer::perm::PermRef;
-use faer::{Conj, Mat, MatRef, Par};
+use faer::{Conj, Mat, Par};
 
 pub(crate) struct Lu {
-    /// The matrix as given (for the solution check) and its factors in place.
+    /// The matrix factorised, and its factors in place.
     a: Mat<f64>,
     lu: Mat<f64>,
     fwd: Vec<usize>,
     bwd: Vec<usize>,
     mem: MemBuffer,
-    /// Largest absolute entry of `a`.
+    /// Largest absolute entry and Frobenius norm of the matrix factorised.
     a_max: f64,
+    a_fro: f64,
     /// Whether `lu` holds a factorisation.
     valid: bool,
+    res: Vec<f64>,
 }
 
 impl Lu {
@@ -42,24 +44,28 @@ impl Lu {
             bwd: vec![0; dim],
             mem: MemBuffer::new(req),
             a_max: 0.0,
+            a_fro: 0.0,
             valid: false,
+            res: vec![0.0; dim],
         }
     }
 
     pub fn dim(&self) -> usize {
-        self.a.nrows()
+        self.lu.nrows()
     }
 
     /// Factorises `a`; false if a pivot is zero or not finite.
-    pub fn factor(&mut self, a: MatRef<'_, f64>) -> bool {
+    pub fn factor(&mut self, a: &Mat<f64>) -> bool {
         self.a.as_mut().copy_from(a);
         self.lu.as_mut().copy_from(a);
-        self.a_max = 0.0;
+        let (mut a_max, mut a_sq) = (0.0f64, 0.0f64);
         for j in 0..a.ncols() {
-            for i in 0..a.nrows() {
-                self.a_max = self.a_max.max(a[(i, j)].abs());
+            for v in a.col_as_slice(j) {
+                a_max = a_max.max(v.abs());
+                a_sq += v * v;
             }
         }
+        (self.a_max, self.a_fro) = (a_max, a_sq.sqrt());
         factor::lu_in_place(
             self.lu.as_mut(),
             &mut self.fwd,
@@ -98,21 +104,35 @@ impl Lu {
         b.iter().all(|v| v.is_finite())
     }
 
-    /// Whether `x` solves `A x = b` for the matrix last factorised, to a
-    /// residual of `1e-8` of the sizes involved.
-    pub fn satisfies(&self, x: &[f64], b: &[f64]) -> bool {
-        let n = self.dim();
+    /// Whether `x` solves `A x = b` to a residual of `1e-8` of the sizes
+    /// involved, `a` being the matrix last factorised.
+    pub fn satisfies(&mut self, a: &Mat<f64>, x: &[f64], b: &[f64]) -> bool {
         let x_max = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let b_max = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let mut res = b.iter().map(|v| -v).collect::<Vec<f64>>();
+        let res = &mut self.res;
+        res.iter_mut().zip(b).for_each(|(r, v)| *r = -v);
         for (j, xj) in x.iter().enumerate() {
-            for (i, ri) in res.iter_mut().enumerate() {
-                *ri += self.a[(i, j)] * xj;
+            for (ri, aij) in res.iter_mut().zip(a.col_as_slice(j)) {
+                *ri += aij * xj;
             }
         }
         let r = res.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        debug_assert_eq!(res.len(), n);
         r <= 1e-8 * (b_max + self.a_max * x_max)
+    }
+
+    /// `‖b - A‖_F / ‖A‖_F` for the matrix `A` last factorised: how far a
+    /// reciprocal condition of `A` can be from that of `b`.
+    pub fn distance_to(&self, b: &Mat<f64>) -> f64 {
+        if !self.valid || b.nrows() != self.dim() || b.ncols() != self.dim() {
+            return f64::INFINITY;
+        }
+        let mut d = 0.0f64;
+        for j in 0..self.dim() {
+            for (x, y) in self.a.col_as_slice(j).iter().zip(b.col_as_slice(j)) {
+                d += (x - y) * (x - y);
+            }
+        }
+        d.sqrt() / self.a_fro
     }
 
     /// An estimate of `σ_min / σ_max` of the factorised matrix from above (it
@@ -123,13 +143,7 @@ impl Lu {
         if !self.valid || n == 0 {
             return 0.0;
         }
-        let mut a_fro = 0.0f64;
-        for j in 0..n {
-            for i in 0..n {
-                a_fro += self.a[(i, j)] * self.a[(i, j)];
-            }
-        }
-        let a_fro = a_fro.sqrt();
+        let a_fro = self.a_fro;
         // Irregular signs and sizes: no structure of a mechanism lines up with it.
         let mut y: Vec<f64> = (0..n)
             .map(|i| {
@@ -177,11 +191,11 @@ mod tests {
         let n = 47;
         let a = matrix(n, 3);
         let mut lu = Lu::new(n);
-        assert!(lu.factor(a.as_ref()));
+        assert!(lu.factor(&a));
         let b: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
         let mut x = b.clone();
         assert!(lu.solve(&mut x));
-        assert!(lu.satisfies(&x, &b));
+        assert!(lu.satisfies(&a, &x, &b));
         let s = a.singular_values().expect("svd");
         let ratio = s[n - 1] / s[0];
         let est = lu.reciprocal_condition();
@@ -191,7 +205,7 @@ mod tests {
         for i in 0..n {
             sing[(i, n - 1)] = 2.0 * a[(i, 0)] - 0.5 * a[(i, 7)];
         }
-        let ok = lu.factor(sing.as_ref());
+        let ok = lu.factor(&sing);
         assert!(!ok || lu.reciprocal_condition() < 1e-12);
     }
 }

@@ -164,6 +164,20 @@ pub fn solve(
     loads: &[PointLoad],
     start: &State,
 ) -> Result<Equilibrium, StaticsError> {
+    solve_reusing(problem, loads, start, &mut None)
+}
+
+/// As [`solve`], keeping the solver's buffers in `buffers` for the next case
+/// of a path. When this solve starts where the previous one with the same
+/// buffers ended, its first step uses that solve's last factorisation (the
+/// tangent at the previous equilibrium: a linear predictor for the new load)
+/// instead of factorising again.
+pub(crate) fn solve_reusing(
+    problem: &Problem,
+    loads: &[PointLoad],
+    start: &State,
+    buffers: &mut Option<Solver>,
+) -> Result<Equilibrium, StaticsError> {
     let model = &problem.model;
     if let Some(l) = loads
         .iter()
@@ -195,9 +209,17 @@ pub fn solve(
             "a load component is not a finite number",
         ));
     }
-    let mut sv = Solver::new(problem, start);
-    let mut state = start.clone();
     let m = problem.kept.len();
+    let dim = problem.layout.n() + m;
+    let sv = match buffers {
+        Some(sv) if sv.lu.dim() == dim => sv,
+        _ => buffers.insert(Solver::new(problem, start)),
+    };
+    sv.predict = sv
+        .ended_at
+        .take()
+        .is_some_and(|e| e.poses == start.poses && e.lambda == start.lambda);
+    let mut state = start.clone();
     if state.lambda.len() != m {
         state.lambda = vec![0.0; m];
     }
@@ -229,7 +251,7 @@ pub fn solve(
             remaining: 1.0 - target,
         };
         let mut trial = state.clone();
-        match newton(problem, &l, &mut trial, force, &h, &mut sv, evaluated) {
+        match newton(problem, &l, &mut trial, force, &h, sv, evaluated) {
             Ok(it) => {
                 iterations += it;
                 steps += 1;
@@ -249,14 +271,16 @@ pub fn solve(
         }
         evaluated = false;
     }
-    finish(
+    let eq = finish(
         problem,
         state,
         iterations,
         steps.saturating_sub(1),
         force,
-        &mut sv,
-    )
+        sv,
+    )?;
+    sv.ended_at = Some(eq.state.clone());
+    Ok(eq)
 }
 
 /// Below this estimate of the Newton matrix's reciprocal condition the exact
@@ -267,7 +291,7 @@ const CHECK_SINGULAR_BELOW: f64 = 1e-8;
 /// Checks the equilibrium is isolated and the left-out redundant equations
 /// hold, and collects the reactions. `sv.ws` holds the residual and Newton
 /// matrix at `state`; `sv.lu` factorises the matrix of the last Newton
-/// iteration (a state within the last, converging, step) when `sv.factored`.
+/// iteration when `sv.factored`.
 fn finish(
     p: &Problem,
     state: State,
@@ -279,8 +303,16 @@ fn finish(
     let (ef, ec) = sv.ws.errors(p, force);
     // A load that happens not to excite a free motion still converges; the
     // equilibrium is then not unique, which is an error, not a result.
-    if !sv.factored {
-        sv.lu.factor(sv.ws.a.as_ref());
+    // The last iteration's factorisation stands for the equilibrium's matrix
+    // when the two differ by less than its estimated distance to singular
+    // (σ_min moves by at most ‖ΔA‖); a full step that converged at once (the
+    // multipliers changed from zero, say) changes the matrix, so factorise it.
+    let stale = !sv.factored || {
+        let moved = sv.lu.distance_to(&sv.ws.a);
+        sv.lu.reciprocal_condition() - moved < CHECK_SINGULAR_BELOW
+    };
+    if stale {
+        sv.lu.factor(&sv.ws.a);
     }
     if sv.lu.reciprocal_condition() < CHECK_SINGULAR_BELOW
         && let Some(e) = newton::singular_direction(p, &sv.ws.matrix())
@@ -405,8 +437,14 @@ pub fn solve_set(model: &Model, set: LoadSetId) -> Result<Vec<Equilibrium>, Stat
     let problem = Problem::new(model)?;
     let mut state = State::design(model);
     let mut out = Vec::with_capacity(ls.cases.len());
+    let mut buffers = None;
     for case in 0..ls.cases.len() {
-        let eq = solve(&problem, &model.point_loads(set, case), &state)?;
+        let eq = solve_reusing(
+            &problem,
+            &model.point_loads(set, case),
+            &state,
+            &mut buffers,
+        )?;
         state = eq.state.clone();
         out.push(eq);
     }

@@ -236,6 +236,11 @@ pub(crate) struct Solver {
     /// Whether `lu` factorises the Newton matrix of a state of the current
     /// Newton run (not of an earlier load step).
     pub factored: bool,
+    /// Take the first step with `lu` as it is: it factorises the matrix of the
+    /// last iteration of the previous solve, which ended where this one starts.
+    pub predict: bool,
+    /// Where the last successful solve with these buffers ended.
+    pub ended_at: Option<State>,
     x: Vec<f64>,
     b: Vec<f64>,
     dq: DVector<f64>,
@@ -249,6 +254,8 @@ impl Solver {
             ws: Workspace::new(p),
             lu: Lu::new(n + m),
             factored: false,
+            predict: false,
+            ended_at: None,
             x: vec![0.0; n + m],
             b: vec![0.0; n + m],
             dq: DVector::zeros(n),
@@ -300,9 +307,23 @@ pub(crate) fn newton(
             sv.b[n + k] = -sv.ws.phi[k];
         }
         sv.x.copy_from_slice(&sv.b);
-        let solved = sv.lu.factor(sv.ws.a.as_ref())
+        // The predictor: the tangent at the previous equilibrium, already
+        // factorised, extrapolates to the new load. Anything doubtful falls
+        // back on a fresh factorisation below.
+        let predicted = std::mem::take(&mut sv.predict);
+        if predicted && sv.lu.dim() == n + m && sv.lu.solve(&mut sv.x) {
+            let biggest = sv.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            if biggest <= 0.5 * p.length && line_search(p, loads, st, force, homotopy, sv) {
+                continue;
+            }
+            // Back to the state this iteration started from, and a Newton step.
+            sv.ws.eval(p, st, loads, true).map_err(fatal)?;
+            sv.ws.release(homotopy);
+            sv.x.copy_from_slice(&sv.b);
+        }
+        let solved = sv.lu.factor(&sv.ws.a)
             && sv.lu.solve(&mut sv.x)
-            && sv.lu.satisfies(&sv.x, &sv.b);
+            && sv.lu.satisfies(&sv.ws.a, &sv.x, &sv.b);
         sv.factored = true;
         let biggest = sv.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if (!solved || biggest > 1e3 * p.length)
@@ -319,31 +340,7 @@ pub(crate) fn newton(
             let f = 0.5 * p.length / biggest;
             sv.x.iter_mut().for_each(|v| *v *= f);
         }
-        let m0 = sv.ws.merit(p, force);
-        let mut alpha = 1.0;
-        let mut accepted = false;
-        for _ in 0..12 {
-            copy_state(&mut sv.trial, st);
-            for i in 0..n {
-                sv.dq[i] = alpha * sv.x[i] * sv.ws.scale[i];
-            }
-            sv.trial.apply(&p.layout, &sv.dq);
-            for k in 0..m {
-                sv.trial.lambda[k] += alpha * sv.x[n + k] / sv.ws.row_scale[k];
-            }
-            if sv.ws.eval(p, &sv.trial, loads, true).is_ok() {
-                sv.ws.release(homotopy);
-                let m1 = sv.ws.merit(p, force);
-                if m1.is_finite() && m1 < (1.0 - 1e-4 * alpha) * m0 {
-                    accepted = true;
-                    break;
-                }
-            }
-            alpha *= 0.5;
-        }
-        if accepted {
-            std::mem::swap(st, &mut sv.trial);
-        } else {
+        if !line_search(p, loads, st, force, homotopy, sv) {
             // Rounding floor: no decrease possible, but already nearly converged.
             if ef < 1e3 * FORCE_TOL && ec < 1e3 * CONSTRAINT_TOL {
                 // The workspace holds a rejected trial: evaluate the state kept.
@@ -355,6 +352,42 @@ pub(crate) fn newton(
         }
     }
     Err(Failure::Stalled(st.clone()))
+}
+
+/// Backtracking from the step `sv.x` until the merit decreases (Armijo); on
+/// success `st` is the new state and `sv.ws` holds its evaluation, otherwise
+/// `st` is unchanged and `sv.ws` holds a rejected trial.
+fn line_search(
+    p: &Problem,
+    loads: &[PointLoad],
+    st: &mut State,
+    force: f64,
+    homotopy: &Homotopy,
+    sv: &mut Solver,
+) -> bool {
+    let (n, m) = (p.layout.n(), p.kept.len());
+    let m0 = sv.ws.merit(p, force);
+    let mut alpha = 1.0;
+    for _ in 0..12 {
+        copy_state(&mut sv.trial, st);
+        for i in 0..n {
+            sv.dq[i] = alpha * sv.x[i] * sv.ws.scale[i];
+        }
+        sv.trial.apply(&p.layout, &sv.dq);
+        for k in 0..m {
+            sv.trial.lambda[k] += alpha * sv.x[n + k] / sv.ws.row_scale[k];
+        }
+        if sv.ws.eval(p, &sv.trial, loads, true).is_ok() {
+            sv.ws.release(homotopy);
+            let m1 = sv.ws.merit(p, force);
+            if m1.is_finite() && m1 < (1.0 - 1e-4 * alpha) * m0 {
+                std::mem::swap(st, &mut sv.trial);
+                return true;
+            }
+        }
+        alpha *= 0.5;
+    }
+    false
 }
 
 /// The scaled Newton matrix `[S K S, J^T; J, 0]`.
