@@ -236,10 +236,8 @@ pub(crate) struct Solver {
     /// Whether `lu` factorises the Newton matrix of a state of the current
     /// Newton run (not of an earlier load step).
     pub factored: bool,
-    /// Take the next step with `lu` as it is: at the start of a solve, when it
-    /// factorises the matrix of the previous solve's end, which is where this
-    /// one starts; within a run, after a step that cut the residual a
-    /// hundredfold (the matrix then changes far less than the residual).
+    /// Take the first step with `lu` as it is: it factorises the matrix of the
+    /// previous solve's end, which is where this one starts.
     pub predict: bool,
     /// Factorisations since the start of the solve.
     pub factorizations: usize,
@@ -316,11 +314,9 @@ pub(crate) fn newton(
         // tangent at the previous equilibrium: a linear predictor for the new
         // load). Anything doubtful falls back on a fresh factorisation below.
         let predicted = std::mem::take(&mut sv.predict);
-        let m0 = sv.ws.merit(p, force);
         if predicted && sv.lu.dim() == n + m && sv.lu.solve(&mut sv.x) {
             let biggest = sv.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
             if biggest <= 0.5 * p.length && line_search(p, loads, st, force, homotopy, sv) {
-                sv.predict = sv.ws.merit(p, force) < 1e-4 * m0;
                 continue;
             }
             // Back to the state this iteration started from, and a Newton step.
@@ -348,9 +344,7 @@ pub(crate) fn newton(
             let f = 0.5 * p.length / biggest;
             sv.x.iter_mut().for_each(|v| *v *= f);
         }
-        if line_search(p, loads, st, force, homotopy, sv) {
-            sv.predict = sv.ws.merit(p, force) < 1e-4 * m0;
-        } else {
+        if !line_search(p, loads, st, force, homotopy, sv) {
             // Rounding floor: no decrease possible, but already nearly converged.
             if ef < 1e3 * FORCE_TOL && ec < 1e3 * CONSTRAINT_TOL {
                 // The workspace holds a rejected trial: evaluate the state kept.
