@@ -28,6 +28,16 @@ fn main() {
         "thesis_table_5_1 iterations per case, warm start:  {}",
         its(&warm)
     );
+    let lus = |eqs: &[axle::statics::Equilibrium]| {
+        eqs.iter()
+            .map(|e| e.factorizations.to_string())
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    println!(
+        "thesis_table_5_1 LU factorisations per case, warm start: {}",
+        lus(&warm)
+    );
     let subs: Vec<String> = warm.iter().map(|e| e.substeps.to_string()).collect();
     println!(
         "thesis_table_5_1 extra load sub-steps per case, warm start: {}",

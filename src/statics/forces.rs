@@ -195,24 +195,34 @@ pub fn element_wrenches(
     state: &State,
 ) -> Result<Vec<(ElementId, Wrench)>, StaticsError> {
     let mut out = Vec::new();
+    for_each_element(model, layout, state, |id, w| out.push((id, w.clone())))?;
+    Ok(out)
+}
+
+/// Calls `f` with every force-element wrench, in the order of
+/// [`element_wrenches`], without collecting them (the Newton loop's path).
+pub fn for_each_element(
+    model: &Model,
+    layout: &Layout,
+    state: &State,
+    mut f: impl FnMut(ElementId, &Wrench),
+) -> Result<(), StaticsError> {
     for (k, b) in model.bushings.iter().enumerate() {
-        out.push((
-            ElementId::Bushing(BushingId(k as u32)),
-            bushing(model, layout, state, b).wrench,
-        ));
+        let id = ElementId::Bushing(BushingId(k as u32));
+        f(id, &bushing(model, layout, state, b).wrench);
     }
     for (k, s) in model.springs.iter().enumerate() {
         let id = SpringId(k as u32);
-        out.push((
+        f(
             ElementId::Spring(id),
-            spring(model, layout, state, id, s)?.2,
-        ));
+            &spring(model, layout, state, id, s)?.2,
+        );
     }
     for (k, s) in model.stops.iter().enumerate() {
         let id = StopId(k as u32);
-        out.push((ElementId::Stop(id), stop(model, layout, state, id, s)?.2));
+        f(ElementId::Stop(id), &stop(model, layout, state, id, s)?.2);
     }
-    Ok(out)
+    Ok(())
 }
 
 #[cfg(test)]

@@ -12,6 +12,7 @@ pub mod constraint;
 pub mod coords;
 pub mod error;
 pub mod forces;
+mod linear;
 pub mod mobility;
 pub mod newton;
 pub mod path;
@@ -33,7 +34,7 @@ use crate::geom::Vec3;
 use crate::model::{ElementId, JointId, LoadSetId, Model, PointLoad};
 use constraint::{Equation, evaluate};
 use coords::Layout;
-use newton::{Failure, Homotopy, assemble, errors, newton};
+use newton::{Failure, Homotopy, Solver, assemble, errors, newton};
 use redundancy::{independence, scaled_jacobian};
 
 /// A model compiled for the statics backend: coordinate layout, constraint
@@ -107,8 +108,12 @@ pub struct Reaction {
 #[derive(Debug, Clone)]
 pub struct Equilibrium {
     pub state: State,
-    /// Newton iterations over all sub-steps.
+    /// Newton iterations (steps) over all sub-steps.
     pub iterations: usize,
+    /// LU factorisations of the Newton matrix these took: a step may reuse the
+    /// previous factorisation (see [`newton`]), and the end of a solve may
+    /// factorise the equilibrium's matrix for the singularity check.
+    pub factorizations: usize,
     /// Extra load steps taken because a full step failed (0: one step sufficed).
     pub substeps: usize,
     /// Final residual: the larger of the force residual relative to the force
@@ -143,16 +148,12 @@ fn interpolate(from: &[PointLoad], to: &[PointLoad], s: f64) -> Vec<PointLoad> {
     out
 }
 
-/// The force scale of a solve: applied loads and the element forces at the start (N).
-fn force_scale(p: &Problem, loads: &[PointLoad], start: &State) -> f64 {
-    let mut f = 1.0f64;
+/// The force scale of a solve: applied loads and the element forces at the
+/// start (`element_scale`, N).
+fn force_scale(p: &Problem, loads: &[PointLoad], start: &State, element_scale: f64) -> f64 {
+    let mut f = 1.0f64.max(element_scale);
     for l in loads.iter().chain(start.loads.iter()) {
         f = f.max(l.force.norm() + l.torque.norm() / p.length);
-    }
-    if let Ok(ws) = forces::element_wrenches(&p.model, &p.layout, start) {
-        for (_, w) in ws {
-            f = f.max(w.g.norm() + w.m.norm() / p.length);
-        }
     }
     f
 }
@@ -166,6 +167,20 @@ pub fn solve(
     problem: &Problem,
     loads: &[PointLoad],
     start: &State,
+) -> Result<Equilibrium, StaticsError> {
+    solve_reusing(problem, loads, start, &mut None)
+}
+
+/// As [`solve`], keeping the solver's buffers in `buffers` for the next case
+/// of a path. When this solve starts where the previous one with the same
+/// buffers ended, its first step uses that solve's last factorisation (the
+/// tangent at the previous equilibrium: a linear predictor for the new load)
+/// instead of factorising again.
+pub(crate) fn solve_reusing(
+    problem: &Problem,
+    loads: &[PointLoad],
+    start: &State,
+    buffers: &mut Option<Solver>,
 ) -> Result<Equilibrium, StaticsError> {
     let model = &problem.model;
     if let Some(l) = loads
@@ -198,24 +213,50 @@ pub fn solve(
             "a load component is not a finite number",
         ));
     }
-    let force = force_scale(problem, loads, start);
-    let from = start.loads.clone();
-    let mut state = start.clone();
-    let (r0, phi0) = match assemble(problem, start, &from) {
-        Ok(sys) => (sys.r, sys.phi),
-        Err(e) => return Err(e),
+    let m = problem.kept.len();
+    let dim = problem.layout.n() + m;
+    let sv = match buffers {
+        Some(sv) if sv.lu.dim() == dim => sv,
+        _ => buffers.insert(Solver::new(problem, start)),
     };
+    sv.factorizations = 0;
+    sv.predict = sv
+        .ended_at
+        .take()
+        .is_some_and(|e| e.poses == start.poses && e.lambda == start.lambda);
+    let mut state = start.clone();
+    if state.lambda.len() != m {
+        state.lambda = vec![0.0; m];
+    }
+    // The first full step starts from this evaluation, which also gives the
+    // element forces of the force scale.
+    sv.ws.eval(problem, &state, loads, true)?;
+    let force = force_scale(problem, loads, start, sv.ws.element_scale);
+    let from = start.loads.clone();
+    // The start's own residual, needed only once a sub-step is taken.
+    let mut start_residual: Option<(Vec<f64>, Vec<f64>)> = None;
+    let mut evaluated = true;
     let (mut s, mut ds, mut steps, mut iterations) = (0.0f64, 1.0f64, 0usize, 0usize);
     while s < 1.0 {
         let target = if s + ds >= 1.0 - 1e-12 { 1.0 } else { s + ds };
         let l = interpolate(&from, loads, target);
-        let mut trial = state.clone();
+        let (r0, phi0) = if target < 1.0 {
+            if start_residual.is_none() {
+                let mut w0 = newton::Workspace::new(problem);
+                w0.eval(problem, start, &from, false)?;
+                start_residual = Some((w0.r, w0.phi));
+            }
+            start_residual.clone().unwrap_or_default()
+        } else {
+            (Vec::new(), Vec::new())
+        };
         let h = Homotopy {
-            r0: r0.clone(),
-            phi0: phi0.clone(),
+            r0,
+            phi0,
             remaining: 1.0 - target,
         };
-        match newton(problem, &l, &mut trial, force, &h) {
+        let mut trial = state.clone();
+        match newton(problem, &l, &mut trial, force, &h, sv, evaluated) {
             Ok(it) => {
                 iterations += it;
                 steps += 1;
@@ -227,45 +268,90 @@ pub fn solve(
             Err(Failure::Fatal(e)) => return Err(e),
             Err(Failure::Stalled(at)) => {
                 iterations += 1;
+                sv.predict = false;
                 ds /= 2.0;
                 if ds < MIN_STEP {
                     return Err(not_converged(problem, &at, &l, force));
                 }
             }
         }
+        evaluated = false;
     }
-    finish(problem, state, iterations, steps.saturating_sub(1), force)
+    let eq = finish(
+        problem,
+        state,
+        iterations,
+        steps.saturating_sub(1),
+        force,
+        sv,
+    )?;
+    sv.ended_at = Some(eq.state.clone());
+    Ok(eq)
 }
 
-/// Checks the left-out redundant equations and collects the reactions.
+/// Below this estimate of the Newton matrix's reciprocal condition the exact
+/// singular-value test runs; it flags at `1e-12`, so the estimate (within a
+/// factor of about 10 of the ratio, see `linear`'s test) has two orders of
+/// magnitude of margin. The McPherson example's matrices are near `1e-7`.
+const CHECK_SINGULAR_BELOW: f64 = 1e-10;
+
+/// Checks the equilibrium is isolated and the left-out redundant equations
+/// hold, and collects the reactions. `sv.ws` holds the residual and Newton
+/// matrix at `state`; `sv.lu` factorises the matrix of the last Newton
+/// iteration when `sv.factored`.
 fn finish(
     p: &Problem,
     state: State,
     iterations: usize,
     substeps: usize,
     force: f64,
+    sv: &mut Solver,
 ) -> Result<Equilibrium, StaticsError> {
-    let sys = assemble(p, &state, &state.loads)?;
-    let (ef, ec) = errors(p, &sys, force);
+    let (ef, ec) = sv.ws.errors(p, force);
     // A load that happens not to excite a free motion still converges; the
     // equilibrium is then not unique, which is an error, not a result.
-    if let Some(e) = newton::singular_direction(p, &newton::kkt(&sys)) {
+    // The last iteration's factorisation stands for the equilibrium's matrix
+    // when the two differ by less than its estimated distance to singular
+    // (σ_min moves by at most ‖ΔA‖); a full step that converged at once (the
+    // multipliers changed from zero, say) changes the matrix, so factorise it.
+    let stale = !sv.factored || {
+        let moved = sv.lu.distance_to(&sv.ws.a);
+        sv.lu.reciprocal_condition() - moved < CHECK_SINGULAR_BELOW
+    };
+    if stale {
+        sv.lu.factor(&sv.ws.a);
+        sv.factorizations += 1;
+    }
+    if sv.lu.reciprocal_condition() < CHECK_SINGULAR_BELOW
+        && let Some(e) = newton::singular_direction(p, &sv.ws.matrix())
+    {
         return Err(e);
     }
-    let all: Vec<usize> = (0..p.equations.len()).collect();
-    let sj = scaled_jacobian(&p.model, &p.layout, &state, &p.equations, &all, p.length);
-    for (k, v) in sj.phi.iter().enumerate() {
-        // Redundant equations hold only as well as the geometry's consistency.
-        if !p.kept.contains(&k) && v.abs() > 1e-6 * p.length {
-            return Err(StaticsError::new(
-                StaticsErrorKind::InconsistentRedundancy,
-                vec![ElementId::Joint(p.equations[k].joint)],
-                format!(
-                    "the redundant equation {} is violated by {:.3e} at equilibrium: the joints of the loop disagree",
-                    p.equations[k].primitive.describe(),
-                    v
-                ),
-            ));
+    if p.kept.len() < p.equations.len() {
+        let left_out: Vec<usize> = (0..p.equations.len())
+            .filter(|k| !p.kept.contains(k))
+            .collect();
+        let sj = scaled_jacobian(
+            &p.model,
+            &p.layout,
+            &state,
+            &p.equations,
+            &left_out,
+            p.length,
+        );
+        for (&k, v) in left_out.iter().zip(sj.phi.iter()) {
+            // Redundant equations hold only as well as the geometry's consistency.
+            if v.abs() > 1e-6 * p.length {
+                return Err(StaticsError::new(
+                    StaticsErrorKind::InconsistentRedundancy,
+                    vec![ElementId::Joint(p.equations[k].joint)],
+                    format!(
+                        "the redundant equation {} is violated by {:.3e} at equilibrium: the joints of the loop disagree",
+                        p.equations[k].primitive.describe(),
+                        v
+                    ),
+                ));
+            }
         }
     }
     let mut reactions: Vec<Reaction> = Vec::new();
@@ -288,6 +374,7 @@ fn finish(
     Ok(Equilibrium {
         state,
         iterations,
+        factorizations: sv.factorizations,
         substeps,
         residual: ef.max(ec),
         reactions,
@@ -359,8 +446,14 @@ pub fn solve_set(model: &Model, set: LoadSetId) -> Result<Vec<Equilibrium>, Stat
     let problem = Problem::new(model)?;
     let mut state = State::design(model);
     let mut out = Vec::with_capacity(ls.cases.len());
+    let mut buffers = None;
     for case in 0..ls.cases.len() {
-        let eq = solve(&problem, &model.point_loads(set, case), &state)?;
+        let eq = solve_reusing(
+            &problem,
+            &model.point_loads(set, case),
+            &state,
+            &mut buffers,
+        )?;
         state = eq.state.clone();
         out.push(eq);
     }

@@ -4,17 +4,22 @@
 //! The system is scaled before it is factorised: rotation increments are
 //! multiplied by the characteristic length (so they read as mm at that radius),
 //! moment rows divided by it, and constraint rows normalised. Steps are limited
-//! (0.5 rad, one characteristic length) and damped by a backtracking line search
-//! on the scaled residual norm.
+//! (0.5 rad, half a characteristic length) and damped by a backtracking line
+//! search on the scaled residual norm.
+//!
+//! The loop evaluates into a [`Workspace`] and factorises with [`Lu`], both
+//! kept for the whole solve, so an iteration allocates almost nothing.
 
 use super::Problem;
-use super::constraint::evaluate;
+use super::constraint::{evaluate, is_length};
 use super::coords::State;
 use super::error::{StaticsError, StaticsErrorKind};
-use super::forces::{element_wrenches, point_load};
+use super::forces::{for_each_element, point_load};
+use super::linear::Lu;
 use super::mobility::describe_motion;
-use super::redundancy::scaled_jacobian;
+use super::wrench::Wrench;
 use crate::model::{ElementId, PointLoad};
+use faer::Mat;
 use nalgebra::{DMatrix, DVector};
 
 /// Relative tolerance on the force residual (of the force scale) and on the
@@ -32,7 +37,6 @@ pub(crate) struct System {
     /// Scaled Jacobian of the kept equations and their scaled values (mm).
     pub jac: DMatrix<f64>,
     pub phi: DVector<f64>,
-    pub row_scale: Vec<f64>,
 }
 
 /// `diag(1, 1, 1, 1/L, 1/L, 1/L, ...)`: the scaling of coordinates and rows.
@@ -40,41 +44,157 @@ pub(crate) fn col_scale(c: usize, length: f64) -> f64 {
     if c % 6 >= 3 { 1.0 / length } else { 1.0 }
 }
 
+/// The scaled residual and Newton matrix at one state, in buffers reused from
+/// one evaluation to the next.
+pub(crate) struct Workspace {
+    /// Scaled residual `S (Q + Phi_q^T λ)` (n).
+    pub r: Vec<f64>,
+    /// Kept constraint values divided by their row scale (m, mm).
+    pub phi: Vec<f64>,
+    pub row_scale: Vec<f64>,
+    /// `[S K S, J^T; J, 0]`, filled when the tangent is asked for.
+    pub a: Mat<f64>,
+    /// Largest element force (force plus moment over the length) at the state, N.
+    pub element_scale: f64,
+    scale: Vec<f64>,
+}
+
+impl Workspace {
+    pub fn new(p: &Problem) -> Workspace {
+        let (n, m) = (p.layout.n(), p.kept.len());
+        Workspace {
+            r: vec![0.0; n],
+            phi: vec![0.0; m],
+            row_scale: vec![1.0; m],
+            a: Mat::zeros(n + m, n + m),
+            element_scale: 0.0,
+            scale: (0..n).map(|c| col_scale(c, p.length)).collect(),
+        }
+    }
+
+    /// Evaluates the residual at `st` under `loads`, and the Newton matrix when
+    /// `tangent` is set (otherwise `a` is left as it was).
+    pub fn eval(
+        &mut self,
+        p: &Problem,
+        st: &State,
+        loads: &[PointLoad],
+        tangent: bool,
+    ) -> Result<(), StaticsError> {
+        let n = p.layout.n();
+        let l = p.length;
+        let Workspace {
+            r,
+            phi,
+            row_scale,
+            a,
+            element_scale,
+            scale,
+        } = self;
+        r.iter_mut().for_each(|v| *v = 0.0);
+        if tangent {
+            a.as_mut().fill(0.0);
+        }
+        let mut elem = 0.0f64;
+        fn add(
+            w: &Wrench,
+            lam: f64,
+            r: &mut [f64],
+            a: &mut Mat<f64>,
+            tangent: bool,
+            scale: &[f64],
+        ) {
+            w.each_force(|i, v| r[i] += lam * v * scale[i]);
+            if tangent {
+                w.each_tangent(|i, j, v| a[(i, j)] += lam * v * scale[i] * scale[j]);
+            }
+        }
+        for_each_element(&p.model, &p.layout, st, |_, w| {
+            elem = elem.max(w.g.norm() + w.m.norm() / l);
+            add(w, 1.0, r, a, tangent, scale);
+        })?;
+        *element_scale = elem;
+        for ld in loads {
+            if let Some(w) = point_load(&p.model, &p.layout, st, ld) {
+                add(&w, 1.0, r, a, tangent, scale);
+            }
+        }
+        for (idx, &e) in p.kept.iter().enumerate() {
+            let lam = st.lambda.get(idx).copied().unwrap_or(0.0);
+            let eq = &p.equations[e];
+            let (v, w) = evaluate(&p.model, &p.layout, st, eq);
+            // The gradient row with rotation columns times the length, as in
+            // `redundancy::scaled_jacobian` (at most 12 entries).
+            let mut grad = [(0usize, 0.0f64); 12];
+            let mut len = 0;
+            w.each_force(|i, g| {
+                grad[len] = (i, g * scale[i]);
+                len += 1;
+            });
+            let norm = grad[..len].iter().map(|(_, g)| g * g).sum::<f64>().sqrt();
+            let s = if norm > 0.0 {
+                norm
+            } else if is_length(eq.primitive) {
+                1.0
+            } else {
+                1.0 / l
+            };
+            row_scale[idx] = s;
+            phi[idx] = v / s;
+            if tangent {
+                for &(i, g) in &grad[..len] {
+                    a[(n + idx, i)] += g / s;
+                    a[(i, n + idx)] += g / s;
+                }
+            }
+            add(&w, lam, r, a, tangent, scale);
+        }
+        Ok(())
+    }
+
+    /// Applies the homotopy of a sub-step to the residual.
+    fn release(&mut self, h: &Homotopy) {
+        if h.remaining > 0.0 && h.r0.len() == self.r.len() && h.phi0.len() == self.phi.len() {
+            for (v, v0) in self.r.iter_mut().zip(&h.r0) {
+                *v -= v0 * h.remaining;
+            }
+            for (v, v0) in self.phi.iter_mut().zip(&h.phi0) {
+                *v -= v0 * h.remaining;
+            }
+        }
+    }
+
+    /// Scaled residual norms: force (of `force`) and constraint (of the length).
+    pub fn errors(&self, p: &Problem, force: f64) -> (f64, f64) {
+        let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        (amax(&self.r) / force, amax(&self.phi) / p.length)
+    }
+
+    fn merit(&self, p: &Problem, force: f64) -> f64 {
+        let sq = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>();
+        sq(&self.r) / (force * force) + sq(&self.phi) / (p.length * p.length)
+    }
+
+    /// The Newton matrix as a nalgebra matrix (for the SVD of error paths).
+    pub fn matrix(&self) -> DMatrix<f64> {
+        let nn = self.a.nrows();
+        DMatrix::from_fn(nn, nn, |i, j| self.a[(i, j)])
+    }
+}
+
 pub(crate) fn assemble(
     p: &Problem,
     st: &State,
     loads: &[PointLoad],
 ) -> Result<System, StaticsError> {
-    let n = p.layout.n();
-    let mut q = DVector::zeros(n);
-    let mut k = DMatrix::zeros(n, n);
-    for (_, w) in element_wrenches(&p.model, &p.layout, st)? {
-        w.add_force(&mut q);
-        w.add_tangent(&mut k);
-    }
-    for l in loads {
-        if let Some(w) = point_load(&p.model, &p.layout, st, l) {
-            w.add_force(&mut q);
-            w.add_tangent(&mut k);
-        }
-    }
-    for (idx, &e) in p.kept.iter().enumerate() {
-        let lam = st.lambda.get(idx).copied().unwrap_or(0.0);
-        let (_, w) = evaluate(&p.model, &p.layout, st, &p.equations[e]);
-        let w = w.scaled(lam);
-        w.add_force(&mut q);
-        w.add_tangent(&mut k);
-    }
-    let sj = scaled_jacobian(&p.model, &p.layout, st, &p.equations, &p.kept, p.length);
-    let l = p.length;
-    let r = DVector::from_fn(n, |i, _| q[i] * col_scale(i, l));
-    let k = DMatrix::from_fn(n, n, |i, j| k[(i, j)] * col_scale(i, l) * col_scale(j, l));
+    let mut ws = Workspace::new(p);
+    ws.eval(p, st, loads, true)?;
+    let (n, m) = (p.layout.n(), p.kept.len());
     Ok(System {
-        r,
-        k,
-        jac: sj.jac,
-        phi: sj.phi,
-        row_scale: sj.row_scale,
+        r: DVector::from_column_slice(&ws.r),
+        k: DMatrix::from_fn(n, n, |i, j| ws.a[(i, j)]),
+        jac: DMatrix::from_fn(m, n, |i, j| ws.a[(n + i, j)]),
+        phi: DVector::from_column_slice(&ws.phi),
     })
 }
 
@@ -90,35 +210,15 @@ pub(crate) fn errors(p: &Problem, sys: &System, force: f64) -> (f64, f64) {
     )
 }
 
-fn merit(p: &Problem, sys: &System, force: f64) -> f64 {
-    (sys.r.norm() / force).powi(2)
-        + if sys.phi.is_empty() {
-            0.0
-        } else {
-            (sys.phi.norm() / p.length).powi(2)
-        }
-}
-
 /// The part of the start state's residual not yet released: `(1 - s)` times the
 /// residual (forces and constraints) the start state had under its own loads.
 /// Subtracting it makes the start an exact equilibrium at `s = 0`, so sub-steps
 /// also release internal preloads (a spring compressed at design), not only the
 /// external loads; at `s = 1` it vanishes and the equilibrium is exact.
 pub(crate) struct Homotopy {
-    pub r0: DVector<f64>,
-    pub phi0: DVector<f64>,
+    pub r0: Vec<f64>,
+    pub phi0: Vec<f64>,
     pub remaining: f64,
-}
-
-impl Homotopy {
-    fn apply(&self, mut sys: System) -> System {
-        if self.remaining > 0.0 && self.r0.len() == sys.r.len() && self.phi0.len() == sys.phi.len()
-        {
-            sys.r -= &self.r0 * self.remaining;
-            sys.phi -= &self.phi0 * self.remaining;
-        }
-        sys
-    }
 }
 
 pub(crate) enum Failure {
@@ -128,13 +228,64 @@ pub(crate) enum Failure {
     Stalled(State),
 }
 
+/// The buffers of one solve: the evaluation at the current state, the
+/// factorisation, the step and a trial state.
+pub(crate) struct Solver {
+    pub ws: Workspace,
+    pub lu: Lu,
+    /// Whether `lu` factorises the Newton matrix of a state of the current
+    /// Newton run (not of an earlier load step).
+    pub factored: bool,
+    /// Take the first step with `lu` as it is: it factorises the matrix of the
+    /// previous solve's end, which is where this one starts.
+    pub predict: bool,
+    /// Factorisations since the start of the solve.
+    pub factorizations: usize,
+    /// Where the last successful solve with these buffers ended.
+    pub ended_at: Option<State>,
+    x: Vec<f64>,
+    b: Vec<f64>,
+    dq: DVector<f64>,
+    trial: State,
+}
+
+impl Solver {
+    pub fn new(p: &Problem, st: &State) -> Solver {
+        let (n, m) = (p.layout.n(), p.kept.len());
+        Solver {
+            ws: Workspace::new(p),
+            lu: Lu::new(n + m),
+            factored: false,
+            predict: false,
+            factorizations: 0,
+            ended_at: None,
+            x: vec![0.0; n + m],
+            b: vec![0.0; n + m],
+            dq: DVector::zeros(n),
+            trial: st.clone(),
+        }
+    }
+}
+
+/// Copies `from` into `to` reusing `to`'s allocations.
+fn copy_state(to: &mut State, from: &State) {
+    to.poses.clone_from(&from.poses);
+    to.loads.clone_from(&from.loads);
+    to.lambda.clone_from(&from.lambda);
+}
+
 /// Newton from `st` to equilibrium under `loads`; returns the iterations used.
+/// `evaluated`: `sv.ws` already holds the residual and matrix at `st` under
+/// `loads` with the homotopy applied. On success `sv.ws` holds them at the
+/// equilibrium.
 pub(crate) fn newton(
     p: &Problem,
     loads: &[PointLoad],
     st: &mut State,
     force: f64,
     homotopy: &Homotopy,
+    sv: &mut Solver,
+    evaluated: bool,
 ) -> Result<usize, Failure> {
     let n = p.layout.n();
     let m = p.kept.len();
@@ -142,69 +293,105 @@ pub(crate) fn newton(
         st.lambda = vec![0.0; m];
     }
     let fatal = Failure::Fatal;
-    let mut sys = homotopy.apply(assemble(p, st, loads).map_err(fatal)?);
+    sv.factored = false;
+    if !evaluated {
+        sv.ws.eval(p, st, loads, true).map_err(fatal)?;
+        sv.ws.release(homotopy);
+    }
     for it in 0..MAX_ITERATIONS {
-        let (ef, ec) = errors(p, &sys, force);
+        let (ef, ec) = sv.ws.errors(p, force);
         if ef < FORCE_TOL && ec < CONSTRAINT_TOL {
             return Ok(it);
         }
-        let a = kkt(&sys);
-        let mut b = DVector::zeros(n + m);
-        b.rows_mut(0, n).copy_from(&(-&sys.r));
-        b.rows_mut(n, m).copy_from(&(-&sys.phi));
-        let x = solve_dense(&a, &b);
-        let suspicious = match &x {
-            Some(x) => x.rows(0, n).amax() > 1e3 * p.length,
-            None => true,
-        };
-        if suspicious {
-            if let Some(e) = singular_direction(p, &a) {
-                return Err(fatal(e));
-            }
+        for i in 0..n {
+            sv.b[i] = -sv.ws.r[i];
         }
-        let Some(mut x) = x else {
+        for k in 0..m {
+            sv.b[n + k] = -sv.ws.phi[k];
+        }
+        sv.x.copy_from_slice(&sv.b);
+        // A step with the factorisation at hand (at the start of a solve, the
+        // tangent at the previous equilibrium: a linear predictor for the new
+        // load). Anything doubtful falls back on a fresh factorisation below.
+        let predicted = std::mem::take(&mut sv.predict);
+        if predicted && sv.lu.dim() == n + m && sv.lu.solve(&mut sv.x) {
+            let biggest = sv.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            if biggest <= 0.5 * p.length && line_search(p, loads, st, force, homotopy, sv) {
+                continue;
+            }
+            // Back to the state this iteration started from, and a Newton step.
+            sv.ws.eval(p, st, loads, true).map_err(fatal)?;
+            sv.ws.release(homotopy);
+            sv.x.copy_from_slice(&sv.b);
+        }
+        let solved = sv.lu.factor(&sv.ws.a)
+            && sv.lu.solve(&mut sv.x)
+            && sv.lu.satisfies(&sv.ws.a, &sv.x, &sv.b);
+        sv.factored = true;
+        sv.factorizations += 1;
+        let biggest = sv.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if (!solved || biggest > 1e3 * p.length)
+            && let Some(e) = singular_direction(p, &sv.ws.matrix())
+        {
+            return Err(fatal(e));
+        }
+        if !solved {
             return Err(Failure::Stalled(st.clone()));
-        };
-        // Limit the step: 0.5 rad of rotation, one characteristic length of travel
-        // (both are length-scaled here).
-        let biggest = x.rows(0, n).amax();
+        }
+        // Limit the step: 0.5 rad of rotation, half a characteristic length of
+        // travel (both are length-scaled here).
         if biggest > 0.5 * p.length {
-            x *= 0.5 * p.length / biggest;
+            let f = 0.5 * p.length / biggest;
+            sv.x.iter_mut().for_each(|v| *v *= f);
         }
-        let m0 = merit(p, &sys, force);
-        let mut alpha = 1.0;
-        let mut accepted = None;
-        for _ in 0..12 {
-            let mut trial = st.clone();
-            let dq = DVector::from_fn(n, |i, _| alpha * x[i] * col_scale(i, p.length));
-            trial.apply(&p.layout, &dq);
-            for k in 0..m {
-                trial.lambda[k] += alpha * x[n + k] / sys.row_scale[k];
+        if !line_search(p, loads, st, force, homotopy, sv) {
+            // Rounding floor: no decrease possible, but already nearly converged.
+            if ef < 1e3 * FORCE_TOL && ec < 1e3 * CONSTRAINT_TOL {
+                // The workspace holds a rejected trial: evaluate the state kept.
+                sv.ws.eval(p, st, loads, true).map_err(fatal)?;
+                sv.ws.release(homotopy);
+                return Ok(it);
             }
-            if let Ok(ts) = assemble(p, &trial, loads).map(|t| homotopy.apply(t)) {
-                let m1 = merit(p, &ts, force);
-                if m1.is_finite() && m1 < (1.0 - 1e-4 * alpha) * m0 {
-                    accepted = Some((trial, ts));
-                    break;
-                }
-            }
-            alpha *= 0.5;
-        }
-        match accepted {
-            Some((t, s)) => {
-                *st = t;
-                sys = s;
-            }
-            None => {
-                // Rounding floor: no decrease possible, but already nearly converged.
-                if ef < 1e3 * FORCE_TOL && ec < 1e3 * CONSTRAINT_TOL {
-                    return Ok(it);
-                }
-                return Err(Failure::Stalled(st.clone()));
-            }
+            return Err(Failure::Stalled(st.clone()));
         }
     }
     Err(Failure::Stalled(st.clone()))
+}
+
+/// Backtracking from the step `sv.x` until the merit decreases (Armijo); on
+/// success `st` is the new state and `sv.ws` holds its evaluation, otherwise
+/// `st` is unchanged and `sv.ws` holds a rejected trial.
+fn line_search(
+    p: &Problem,
+    loads: &[PointLoad],
+    st: &mut State,
+    force: f64,
+    homotopy: &Homotopy,
+    sv: &mut Solver,
+) -> bool {
+    let (n, m) = (p.layout.n(), p.kept.len());
+    let m0 = sv.ws.merit(p, force);
+    let mut alpha = 1.0;
+    for _ in 0..12 {
+        copy_state(&mut sv.trial, st);
+        for i in 0..n {
+            sv.dq[i] = alpha * sv.x[i] * sv.ws.scale[i];
+        }
+        sv.trial.apply(&p.layout, &sv.dq);
+        for k in 0..m {
+            sv.trial.lambda[k] += alpha * sv.x[n + k] / sv.ws.row_scale[k];
+        }
+        if sv.ws.eval(p, &sv.trial, loads, true).is_ok() {
+            sv.ws.release(homotopy);
+            let m1 = sv.ws.merit(p, force);
+            if m1.is_finite() && m1 < (1.0 - 1e-4 * alpha) * m0 {
+                std::mem::swap(st, &mut sv.trial);
+                return true;
+            }
+        }
+        alpha *= 0.5;
+    }
+    false
 }
 
 /// The scaled Newton matrix `[S K S, J^T; J, 0]`.
@@ -275,4 +462,69 @@ pub(crate) fn softest_motion(
         smin / smax,
         describe_motion(&p.model, &p.layout, &dq, p.length),
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Vec3;
+    use crate::statics::{State, solve};
+
+    fn mcpherson() -> crate::model::Model {
+        let (_, c) = crate::check::check_str(
+            "mcpherson.axle",
+            include_str!("../../examples/mcpherson.axle"),
+        );
+        c.model.expect("the example checks")
+    }
+
+    fn wheel_load(m: &crate::model::Model, fx: f64, fy: f64, fz: f64) -> Vec<PointLoad> {
+        vec![PointLoad {
+            marker: m.wheels[0].contact,
+            force: Vec3::new(fx, fy, fz),
+            torque: Vec3::zeros(),
+        }]
+    }
+
+    /// The whole Newton matrix (elements, the moving load, the λ-weighted
+    /// constraint curvature, the constraint Jacobian), scaled as Newton uses it,
+    /// equals a central difference of the scaled residual, at a loaded McPherson
+    /// state away from equilibrium (nonzero multipliers, bushings deflected).
+    #[test]
+    fn newton_matrix_equals_a_finite_difference_jacobian() {
+        let m = mcpherson();
+        let p = Problem::new(&m).expect("problem");
+        let st = solve(&p, &wheel_load(&m, 0.0, 0.0, 1500.0), &State::design(&m))
+            .expect("c1")
+            .state;
+        let loads = wheel_load(&m, 2000.0, -3000.0, 4500.0);
+        let sys = assemble(&p, &st, &loads).expect("assembles");
+        assert!(sys.r.amax() > 100.0, "away from equilibrium");
+        let (n, nm) = (p.layout.n(), p.kept.len());
+        let h = 1e-6;
+        let (mut worst_k, mut worst_j) = (0.0f64, 0.0f64);
+        for c in 0..n {
+            let at = |s: f64| {
+                let mut t = st.clone();
+                let mut dq = DVector::zeros(n);
+                dq[c] = s * col_scale(c, p.length);
+                t.apply(&p.layout, &dq);
+                let sy = assemble(&p, &t, &loads).expect("assembles");
+                (sy.r, sy.phi)
+            };
+            let ((rp, pp), (rm, pm)) = (at(h), at(-h));
+            let scale = 1.0 + sys.k.column(c).amax();
+            for r in 0..n {
+                let fd = (rp[r] - rm[r]) / (2.0 * h);
+                worst_k = worst_k.max((fd - sys.k[(r, c)]).abs() / scale);
+            }
+            for r in 0..nm {
+                // Rows have unit norm, so this error is relative.
+                let fd = (pp[r] - pm[r]) / (2.0 * h);
+                worst_j = worst_j.max((fd - sys.jac[(r, c)]).abs());
+            }
+        }
+        eprintln!("Newton matrix vs central differences: K {worst_k:.1e}, J {worst_j:.1e}");
+        assert!(worst_k < 1e-6 && worst_j < 1e-6, "{worst_k} {worst_j}");
+    }
 }

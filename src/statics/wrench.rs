@@ -117,6 +117,35 @@ impl Wrench {
         [self.i.map(|b| 6 * b), self.j.map(|b| 6 * b)]
     }
 
+    /// Calls `f(global index, value)` for each entry of the generalised force.
+    pub fn each_force(&self, mut f: impl FnMut(usize, f64)) {
+        let loc = self.generalized();
+        for (s, off) in self.offsets().iter().enumerate() {
+            if let Some(o) = off {
+                for a in 0..6 {
+                    f(o + a, loc[6 * s + a]);
+                }
+            }
+        }
+    }
+
+    /// Calls `f(row, column, value)` for each entry of the tangent.
+    pub fn each_tangent(&self, mut f: impl FnMut(usize, usize, f64)) {
+        let loc = self.tangent();
+        let offs = self.offsets();
+        for (sc, co) in offs.iter().enumerate() {
+            let Some(co) = co else { continue };
+            for (sr, ro) in offs.iter().enumerate() {
+                let Some(ro) = ro else { continue };
+                for b in 0..6 {
+                    for a in 0..6 {
+                        f(ro + a, co + b, loc[(6 * sr + a, 6 * sc + b)]);
+                    }
+                }
+            }
+        }
+    }
+
     /// Adds the generalised force into a global vector.
     pub fn add_force(&self, q: &mut DVector<f64>) {
         let loc = self.generalized();
