@@ -6,7 +6,8 @@
 //!
 //! Here: the search variables (stiffnesses in log space, so they stay
 //! positive and their intervals are multiplicative), the projected LM loop
-//! that keeps declared bounds, and its stopping rule. The residuals and their
+//! that keeps declared bounds and leaves out the directions the data hardly
+//! see ([`Subspace`]), and its stopping rule. The residuals and their
 //! exact Jacobian are [`super::observations`]; covariance, intervals and the
 //! verdict are [`super::fit_stats`]. When the ground was measured, the
 //! registration of the measurements to the model frame is fitted as six
