@@ -70,6 +70,12 @@ fn main() {
         r.sigma0.unwrap_or(f64::NAN),
         ok
     );
+    for (un, p) in u.iter().zip(&r.params) {
+        if let (Some(v), Some((lo, hi))) = (p.value, p.interval) {
+            let b = |x: f64| axle::units::to_boundary(x, un.dim);
+            println!("  {} {:.5} [{:.5}, {:.5}]", un.label(), b(v), b(lo), b(hi));
+        }
+    }
     divan::main();
 }
 
