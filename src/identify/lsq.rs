@@ -29,11 +29,12 @@ pub struct LsqOptions {
     pub angle_sigma: f64,
     pub wc_sigma: f64,
     pub max_iterations: usize,
-    /// Stop when an accepted step lowers the cost (half the noise-weighted
-    /// χ²) by less than this fraction of it. Below that the fit is the same
-    /// within the noise and only sloppy, undetermined directions still drift
-    /// (with every McPherson stiffness and the spring unknown, iterations 50
-    /// to 100 lower the cost by 2e-5 of it in all).
+    /// An accepted step that lowers the cost (half the noise-weighted χ²) by
+    /// less than this fraction of it, while the next Gauss-Newton step moves
+    /// no variable by 0.2 of its standard error, also ends the fit: the fit is
+    /// then the same within the noise. (Before the weak directions were
+    /// frozen, see `freeze_below`, sloppy directions drifted on for 50-100
+    /// iterations with every McPherson stiffness unknown.)
     pub cost_tolerance: f64,
     /// Stop when the Gauss–Newton step moves no variable by more than this
     /// many of its standard errors (the fit is then at its minimum for every
