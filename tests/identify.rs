@@ -725,22 +725,28 @@ fn lsq_kc_channels_narrow_the_intervals() {
     }
 }
 
+/// The McPherson example with bushing A's radial stiffness written as the
+/// parameter `kA`, declared by `declaration`.
+fn mcpherson_with_k_a(declaration: &str) -> Model {
+    let src = include_str!("../examples/mcpherson.axle");
+    let declared = src
+        .replacen(
+            "import mcpherson_loads\n",
+            &format!("import mcpherson_loads\n{declaration}\n"),
+            1,
+        )
+        .replace("k_radial 13875 N/mm", "k_radial kA");
+    assert_ne!(declared, src);
+    model(&declared)
+}
+
 /// Unknowns the file marks: with no `--unknown`, a parameter declared
 /// `unknown` is the one thing identified (not the default set), and least
 /// squares finds the truth's value for it. Here A's radial stiffness is a
 /// parameter started at the thesis' 10000.
 #[test]
 fn parameter_marked_unknown_in_the_file_is_identified() {
-    let src = include_str!("../examples/mcpherson.axle");
-    let declared = src
-        .replacen(
-            "import mcpherson_loads\n",
-            "import mcpherson_loads\nparam kA = 10000 N/mm unknown\n",
-            1,
-        )
-        .replace("k_radial 13875 N/mm", "k_radial kA");
-    assert_ne!(declared, src);
-    let m = model(&declared);
+    let m = mcpherson_with_k_a("param kA = 10000 N/mm unknown");
     let u = identify::select_unknowns(&m, &[]).expect("unknowns");
     assert_eq!(u.len(), 1);
     assert_eq!(u[0].label(), "kA");
@@ -836,16 +842,7 @@ fn lsq_intervals_cover_the_truth_with_the_chassis_registration() {
 /// truth and warn that it lies outside the bounds.
 #[test]
 fn truth_outside_the_declared_bounds_is_reported() {
-    let src = include_str!("../examples/mcpherson.axle");
-    let declared = src
-        .replacen(
-            "import mcpherson_loads\n",
-            "import mcpherson_loads\nparam kA = 10000 N/mm unknown [5000 N/mm, 12000 N/mm]\n",
-            1,
-        )
-        .replace("k_radial 13875 N/mm", "k_radial kA");
-    assert_ne!(declared, src);
-    let m = model(&declared);
+    let m = mcpherson_with_k_a("param kA = 10000 N/mm unknown [5000 N/mm, 12000 N/mm]");
     let truth = mcpherson();
     // Least squares over kA and B.k_x from σ = 0.05 mm landmarks.
     let names: Vec<String> = ["kA", "B.k_x"].map(String::from).to_vec();
@@ -861,7 +858,7 @@ fn truth_outside_the_declared_bounds_is_reported() {
     let (_, bx) = param(&r, "B.k_x");
     assert!(bx.bound.is_none() && bx.value.is_some());
     // The same with bounds that contain the truth: they change nothing.
-    let wide = model(&declared.replace("12000 N/mm]", "20000 N/mm]"));
+    let wide = mcpherson_with_k_a("param kA = 10000 N/mm unknown [5000 N/mm, 20000 N/mm]");
     let uw = identify::select_unknowns(&wide, &names).expect("unknowns");
     let w = identify::lsq::identify(&wide, &uw, &data, Default::default()).expect("lsq");
     let (_, kw) = param(&w, "kA");
