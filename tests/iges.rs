@@ -9,7 +9,7 @@ use axle::diagnostic::render;
 use axle::geom::Vec3;
 use axle::measure::poses::fit_poses;
 use axle::source::SourceMap;
-use common::{axle, scratch};
+use common::{axle, landmark_files};
 use proptest::prelude::*;
 
 const HAND: &str = include_str!("data/iges/hand.igs");
@@ -341,16 +341,7 @@ proptest! {
 fn identify_reads_iges_files_like_the_csv() {
     let m = mcpherson();
     let set = m.load_set_named("thesis_table_5_1").expect("set");
-    let csv = scratch(
-        "identify_t51.csv",
-        &axle::measure::synthetic::landmarks_csv(&m, set, 0.05, 3).expect("solves"),
-    );
-    let files: Vec<String> = axle::measure::synthetic::landmarks_iges(&m, set, 0.05, 3)
-        .expect("solves")
-        .iter()
-        .enumerate()
-        .map(|(k, text)| scratch(&format!("identify_t51_{:02}.igs", k + 1), text))
-        .collect();
+    let (csv, files) = landmark_files(&m, set, 0.05, 3, "identify_t51");
     let run = |landmarks: &[String]| {
         let mut args = vec![
             "identify",

@@ -7,7 +7,7 @@ use axle::geom::Vec3;
 use axle::locate::plan::{Located, Options, locate_all};
 use axle::measure::poses::fit_poses;
 use axle::model::{ElementId, Model, vals};
-use common::{axle, scratch};
+use common::{axle, landmark_files, scratch};
 
 fn mcpherson() -> Model {
     let (_, c) =
@@ -277,16 +277,7 @@ fn locate_cli_prints_the_interface_json_and_writes_the_located_model() {
 fn locate_cli_reads_iges_files_one_per_step_like_the_csv() {
     let (truth, nominal) = (truth(), mcpherson());
     let set = truth.load_set_named("thesis_table_4_4").expect("set");
-    let csv = scratch(
-        "locate_iges_t44.csv",
-        &axle::measure::synthetic::landmarks_csv(&truth, set, 0.05, 2).expect("solves"),
-    );
-    let files: Vec<String> = axle::measure::synthetic::landmarks_iges(&truth, set, 0.05, 2)
-        .expect("solves")
-        .iter()
-        .enumerate()
-        .map(|(k, text)| scratch(&format!("locate_t44_{:02}.igs", k + 1), text))
-        .collect();
+    let (csv, files) = landmark_files(&truth, set, 0.05, 2, "locate_iges_t44");
     assert_eq!(files.len(), nominal.load_sets[set.index()].cases.len());
     let run = |landmarks: &[String]| {
         let mut args = vec![

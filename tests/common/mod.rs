@@ -26,3 +26,27 @@ pub fn scratch(name: &str, text: &str) -> String {
     std::fs::write(&p, text).expect("scratch file");
     p.to_string_lossy().into_owned()
 }
+
+/// Synthetic landmarks of `model` along load set `set` (σ, seed), written
+/// once as a CSV file and once as IGES files, one per step: `<stem>.csv`
+/// and `<stem>_NN.igs`. Returns (CSV path, IGES paths in step order).
+pub fn landmark_files(
+    model: &axle::model::Model,
+    set: axle::model::LoadSetId,
+    sigma: f64,
+    seed: u64,
+    stem: &str,
+) -> (String, Vec<String>) {
+    use axle::measure::synthetic::{landmarks_csv, landmarks_iges};
+    let csv = scratch(
+        &format!("{stem}.csv"),
+        &landmarks_csv(model, set, sigma, seed).expect("solves"),
+    );
+    let iges = landmarks_iges(model, set, sigma, seed)
+        .expect("solves")
+        .iter()
+        .enumerate()
+        .map(|(k, text)| scratch(&format!("{stem}_{:02}.igs", k + 1), text))
+        .collect();
+    (csv, iges)
+}
