@@ -1,6 +1,6 @@
 //! Force elements (bushings, springs, stops) and wheels.
 
-use super::id::{MarkerId, PartId};
+use super::id::{JointId, MarkerId, PartId};
 use super::law::{AxisLaw, Table};
 use super::param::{Val, Val3};
 
@@ -103,6 +103,32 @@ impl StopLaw {
             StopLaw::Table(t) => t.eval(p),
         }
     }
+}
+
+/// What a friction element's slider follows on its joint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FrictionMotion {
+    /// The slide `s = (p_I - p_J) · z_J` of a cylindrical or translational
+    /// joint: `stiffness` in N/mm, `limit` in N.
+    Slide,
+    /// The relative rotation of a revolute, cylindrical or spherical joint
+    /// about z_J: `stiffness` in N·mm/rad, `limit` in N·mm.
+    Rotation,
+}
+
+/// Dry friction on a joint (`conventions.md`, "Friction"): an elasto-plastic
+/// slider, a stiffness in series with a Coulomb limit, acting between the
+/// joint's I and J markers. Path-dependent: its slip offset is state carried
+/// along a load path, committed after every converged step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Friction {
+    pub name: String,
+    pub joint: JointId,
+    pub motion: FrictionMotion,
+    /// Stick stiffness `kf` (N/mm for a slide, N·mm/rad for a rotation).
+    pub stiffness: Val,
+    /// Slip limit `Ff` (N for a slide, N·mm for a rotation), not negative.
+    pub limit: Val,
 }
 
 /// A wheel: a centre marker whose z axis is the outboard spin axis, and a

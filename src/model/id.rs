@@ -14,7 +14,8 @@ macro_rules! ids {
 }
 
 ids!(
-    PartId, MarkerId, LandmarkId, JointId, BushingId, SpringId, StopId, WheelId, ParamId, LoadSetId
+    PartId, MarkerId, LandmarkId, JointId, BushingId, SpringId, StopId, FrictionId, WheelId,
+    ParamId, LoadSetId
 );
 
 /// Any element of a model, for diagnostics and the origin side table.
@@ -27,6 +28,7 @@ pub enum ElementId {
     Bushing(BushingId),
     Spring(SpringId),
     Stop(StopId),
+    Friction(FrictionId),
     Wheel(WheelId),
     Param(ParamId),
     LoadSet(LoadSetId),

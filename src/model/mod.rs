@@ -86,6 +86,8 @@ pub struct Model {
     pub bushings: Vec<Bushing>,
     pub springs: Vec<Spring>,
     pub stops: Vec<Stop>,
+    /// Dry friction on joints (path-dependent).
+    pub frictions: Vec<Friction>,
     pub wheels: Vec<Wheel>,
     pub load_sets: Vec<LoadSet>,
     /// Index of the set `solve` uses when none is named.
@@ -171,6 +173,7 @@ impl Model {
             ElementId::Bushing(b) => format!("bushing `{}`", self.bushings[b.index()].name),
             ElementId::Spring(s) => format!("spring `{}`", self.springs[s.index()].name),
             ElementId::Stop(s) => format!("stop `{}`", self.stops[s.index()].name),
+            ElementId::Friction(f) => format!("friction `{}`", self.frictions[f.index()].name),
             ElementId::Wheel(w) => format!("wheel `{}`", self.wheels[w.index()].name),
             ElementId::Param(p) => format!("parameter `{}`", self.params[p.index()].name),
             ElementId::LoadSet(s) => format!("load set `{}`", self.load_sets[s.index()].name),
@@ -241,6 +244,10 @@ impl Model {
             if let StopLaw::Polynomial(c) = &mut s.law {
                 c.iter_mut().for_each(&mut f);
             }
+        }
+        for fr in &mut self.frictions {
+            f(&mut fr.stiffness);
+            f(&mut fr.limit);
         }
     }
 
