@@ -5,7 +5,7 @@
 //! Layout: [`coords`] (6 coordinates per moving part, rotation increments by
 //! Rodrigues), [`wrench`] (the one generalised-force shape every element reduces
 //! to), [`constraint`] (joint primitives), [`forces`] (bushings, springs, stops,
-//! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`report`].
+//! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`path`].
 
 pub mod compliance;
 pub mod constraint;
@@ -18,11 +18,8 @@ pub mod mobility;
 pub mod newton;
 pub mod path;
 pub mod redundancy;
-pub mod report;
 #[cfg(test)]
 mod testkit;
-pub mod trim;
-pub mod warning;
 pub mod wrench;
 
 pub use compliance::compliance;
