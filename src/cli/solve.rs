@@ -35,11 +35,11 @@ fn load_set(loaded: &mut Loaded, args: &Args) -> Result<LoadSetId, Exit> {
             Exit::Input
         });
     };
-    let text = super::read(path).ok_or(Exit::Io)?;
+    let text = super::read(path)?;
     let name = path
         .file_stem()
         .map_or("loads".into(), |s| s.to_string_lossy().into_owned());
-    let file = loaded.sources.add(path.display().to_string(), text.clone());
+    let file = loaded.sources.add(super::read::shown(path), text.clone());
     match crate::data::loads::read(&text, &name, &loaded.model) {
         Ok(set) => {
             loaded.model.load_sets.push(set);
