@@ -105,10 +105,11 @@ pub fn run(a: &Args) -> Exit {
         c.misfit
     );
     if let Some(out) = &a.output {
-        let text = crate::fmt::print_model(&crate::locate::correct::redesign(&c.model, &c.state));
-        if let Err(e) = std::fs::write(out, text) {
-            eprintln!("error: cannot write {}: {e}", out.display());
-            return Exit::Io;
+        let new = crate::locate::correct::redesign(&c.model, &c.state);
+        if let Err(code) =
+            super::model_out::write_model(&sources, id, &model, &new, "correct", &[], out)
+        {
+            return code;
         }
     }
     Exit::Ok

@@ -98,6 +98,8 @@ pub fn run(a: &IdentifyArgs) -> Exit {
     let (Some(mut model), false) = (checked.model, errors) else {
         return Exit::Input;
     };
+    // As read: `--initial` changes the starting values, not the file's.
+    let checked_model = model.clone();
     if !(a.sigma > 0.0 && a.sigma.is_finite())
         || !(a.tolerance > 0.0)
         || !(a.match_tolerance > 0.0)
@@ -238,10 +240,17 @@ pub fn run(a: &IdentifyArgs) -> Exit {
     };
     r.notes.extend(notes);
     if let Some(out) = &a.output {
-        let text = crate::fmt::print_model(&r.apply(&model));
-        if let Err(e) = std::fs::write(out, text) {
-            eprintln!("error: cannot write {}: {e}", out.display());
-            return Exit::Io;
+        let written = super::model_out::write_model(
+            &sources,
+            file,
+            &checked_model,
+            &r.apply(&model),
+            "identify",
+            &[],
+            out,
+        );
+        if let Err(code) = written {
+            return code;
         }
     }
     if let Some(dir) = &a.report {

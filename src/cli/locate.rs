@@ -83,10 +83,11 @@ pub fn run(a: &Args) -> Exit {
         _ => print!("{}", table(&rep)),
     }
     if let Some(out) = &a.output {
-        let text = crate::fmt::print_model(&apply(&model, &located));
-        if let Err(e) = std::fs::write(out, text) {
-            eprintln!("error: cannot write {}: {e}", out.display());
-            return Exit::Io;
+        let new = apply(&model, &located);
+        if let Err(code) =
+            super::model_out::write_model(&sources, id, &model, &new, "locate", &[], out)
+        {
+            return code;
         }
     }
     Exit::Ok

@@ -166,24 +166,24 @@ pub fn part_block(m: &Model, id: PartId) -> String {
 
 /// `marker NAME at (x, y, z) mm [orientation]`, without indent or line break.
 pub fn marker_line(m: &Model, mk: &Marker) -> String {
-    let mut o = format!(
-        "marker {} at {}",
+    format!(
+        "marker {} at {}{}",
         mk.name,
-        vec3(m, &mk.position, Dim::LENGTH)
-    );
+        vec3(m, &mk.position, Dim::LENGTH),
+        orientation(m, mk)
+    )
+}
+
+/// ` euler (a, b, c) deg`, ` z (..) [x (..)]`, or nothing for the part's axes.
+pub fn orientation(m: &Model, mk: &Marker) -> String {
     match &mk.orientation {
-        Orientation::Identity => {}
-        Orientation::Euler(a) => {
-            let _ = write!(o, " euler {}", vec3(m, a, Dim::ANGLE));
-        }
-        Orientation::Directions { z, x } => {
-            let _ = write!(o, " z {}", plain3(z));
-            if let Some(x) = x {
-                let _ = write!(o, " x {}", plain3(x));
-            }
-        }
+        Orientation::Identity => String::new(),
+        Orientation::Euler(a) => format!(" euler {}", vec3(m, a, Dim::ANGLE)),
+        Orientation::Directions { z, x } => match x {
+            Some(x) => format!(" z {} x {}", plain3(z), plain3(x)),
+            None => format!(" z {}", plain3(z)),
+        },
     }
-    o
 }
 
 /// `landmark NAME at (x, y, z) mm`, without indent or line break.

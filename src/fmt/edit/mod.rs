@@ -23,7 +23,9 @@ mod tests;
 
 pub use error::EditError;
 
-use super::model::{element, landmark_line, marker_line, number, param_line, part_block};
+use super::model::{
+    element, landmark_line, marker_line, number, orientation, param_line, part_block,
+};
 use crate::model::*;
 use crate::span::FileId;
 use crate::syntax::ast::File;
@@ -220,16 +222,17 @@ impl Editor<'_> {
         true
     }
 
-    /// Rewrites the fields of one element; `false` (and nothing planned) when
-    /// the element must be printed again.
+    /// Rewrites the fields of one element of the same shape (`same`, see
+    /// [`fields::same_shape`]); `false` (and nothing planned) when the element
+    /// must be printed again.
     fn fields<T: Clone + PartialEq>(
         &mut self,
         id: ElementId,
-        a: &T,
-        b: &T,
+        (a, b): (&T, &T),
         walk: fn(&mut T, &mut dyn FnMut(&mut Val)),
+        same: bool,
     ) -> bool {
-        if !same_shape(a, b, walk) {
+        if !same {
             return false;
         }
         let (splices, changes) = (self.splices.len(), self.changes.len());
@@ -256,7 +259,8 @@ impl Editor<'_> {
             if a.name != b.name || a.dim != b.dim || a.unknown != b.unknown {
                 // Bounds or kind changed: the whole line is the tool's.
                 self.changes.push(Change::Reprinted { element: id });
-                let (s, e) = (item.span.start as usize, item.span.end as usize);
+                let s = item.span.start as usize;
+                let e = splice::code_end(self.text, s, item.span.end as usize);
                 self.splice(s, e, param_line(b));
                 continue;
             }
@@ -288,11 +292,27 @@ impl Editor<'_> {
             if a.name != b.name || a.part != b.part {
                 return Err(self.unsupported(Some(id), "a renamed or moved marker"));
             }
-            let same = same_marker_shape(a, b) && self.fields(id, a, b, marker_vals);
-            if !same {
-                let line = marker_line(n, b);
-                self.restate(id, &o.part(a.part).name, &a.name, false, line)?;
+            if self.fields(id, (a, b), marker_vals, same_marker_shape(a, b)) {
+                continue;
             }
+            // A new frame form: the position in place, the orientation after it.
+            let walk: fn(&mut Marker, &mut dyn FnMut(&mut Val)) =
+                |m, f| m.position.iter_mut().for_each(f);
+            let span = splice::member(self.ast, &o.part(a.part).name, &a.name, false);
+            let marks = (self.splices.len(), self.changes.len());
+            if let (Some((decl, at)), true) = (span, self.fields(id, (a, b), walk, true)) {
+                let from = splice::code_end(self.text, at.start as usize, at.end as usize);
+                let to = splice::code_end(self.text, decl.start as usize, decl.end as usize);
+                if splice::comments_within(self.text, from, to).is_empty() {
+                    self.changes.push(Change::Reprinted { element: id });
+                    self.splice(from, to, orientation(n, b));
+                    continue;
+                }
+            }
+            self.splices.truncate(marks.0);
+            self.changes.truncate(marks.1);
+            let line = marker_line(n, b);
+            self.restate(id, &o.part(a.part).name, &a.name, false, line)?;
         }
         for i in 0..o.landmarks.len() {
             let (a, b) = (&o.landmarks[i], &n.landmarks[i]);
@@ -302,7 +322,7 @@ impl Editor<'_> {
             }
             let walk: fn(&mut Landmark, &mut dyn FnMut(&mut Val)) =
                 |l, f| l.position.iter_mut().for_each(f);
-            if !self.fields(id, a, b, walk) {
+            if !self.fields(id, (a, b), walk, same_shape(a, b, walk)) {
                 let line = landmark_line(n, b);
                 self.restate(id, &o.part(a.part).name, &a.name, true, line)?;
             }
@@ -320,7 +340,7 @@ impl Editor<'_> {
         landmark: bool,
         line: String,
     ) -> Result<(), EditError> {
-        let Some(span) = splice::member(self.ast, part, name, landmark) else {
+        let Some((span, _)) = splice::member(self.ast, part, name, landmark) else {
             return Err(self.unsupported(Some(id), "an element not written in this file"));
         };
         let (s, e) = (span.start as usize, span.end as usize);
@@ -329,6 +349,7 @@ impl Editor<'_> {
     }
 
     fn replace_keeping_comments(&mut self, id: ElementId, s: usize, e: usize, printed: String) {
+        let e = splice::code_end(self.text, s, e);
         let indent = splice::indent_at(self.text, s).to_string();
         let mut text = String::new();
         for c in splice::comments_within(self.text, s, e) {
@@ -364,25 +385,29 @@ impl Editor<'_> {
         }
         for i in 0..o.bushings.len() {
             let id = ElementId::Bushing(BushingId(i as u32));
-            if !self.fields(id, &o.bushings[i], &n.bushings[i], bushing_vals) {
+            let (a, b) = (&o.bushings[i], &n.bushings[i]);
+            if !self.fields(id, (a, b), bushing_vals, same_shape(a, b, bushing_vals)) {
                 self.reprint(id, "bushing", &o.bushings[i].name)?;
             }
         }
         for i in 0..o.springs.len() {
             let id = ElementId::Spring(SpringId(i as u32));
-            if !self.fields(id, &o.springs[i], &n.springs[i], spring_vals) {
+            let (a, b) = (&o.springs[i], &n.springs[i]);
+            if !self.fields(id, (a, b), spring_vals, same_shape(a, b, spring_vals)) {
                 self.reprint(id, "spring", &o.springs[i].name)?;
             }
         }
         for i in 0..o.stops.len() {
             let id = ElementId::Stop(StopId(i as u32));
-            if !self.fields(id, &o.stops[i], &n.stops[i], stop_vals) {
+            let (a, b) = (&o.stops[i], &n.stops[i]);
+            if !self.fields(id, (a, b), stop_vals, same_shape(a, b, stop_vals)) {
                 self.reprint(id, "stop", &o.stops[i].name)?;
             }
         }
         for i in 0..o.frictions.len() {
             let id = ElementId::Friction(FrictionId(i as u32));
-            if !self.fields(id, &o.frictions[i], &n.frictions[i], friction_vals) {
+            let (a, b) = (&o.frictions[i], &n.frictions[i]);
+            if !self.fields(id, (a, b), friction_vals, same_shape(a, b, friction_vals)) {
                 self.reprint(id, "friction", &o.frictions[i].name)?;
             }
         }

@@ -49,12 +49,13 @@ pub fn part<'a>(ast: &'a File, name: &str) -> Option<(&'a Item, &'a PartDecl)> {
     })
 }
 
-/// The span of a marker or landmark statement of a part.
-pub fn member(ast: &File, part_name: &str, name: &str, landmark: bool) -> Option<Span> {
+/// The span of a marker or landmark statement of a part, and the span of its
+/// position vector.
+pub fn member(ast: &File, part_name: &str, name: &str, landmark: bool) -> Option<(Span, Span)> {
     let (_, p) = part(ast, part_name)?;
     p.items.iter().find_map(|it| match it {
-        PartItem::Marker(m) if !landmark && m.name.name == name => Some(m.span),
-        PartItem::Landmark(l) if landmark && l.name.name == name => Some(l.span),
+        PartItem::Marker(m) if !landmark && m.name.name == name => Some((m.span, m.at.span)),
+        PartItem::Landmark(l) if landmark && l.name.name == name => Some((l.span, l.at.span)),
         _ => None,
     })
 }
@@ -85,6 +86,24 @@ pub fn param_insertion(ast: &File) -> Option<usize> {
             )
         })
     })
+}
+
+/// The end of the code in `start..end`: a statement's span may run on over
+/// the blanks and the comment after it, which stay where they are.
+pub fn code_end(text: &str, start: usize, end: usize) -> usize {
+    let mut slice = &text[start..end];
+    loop {
+        let trimmed = slice.trim_end();
+        let last_line = trimmed.rfind('\n').map_or(0, |n| n + 1);
+        let cut = match trimmed[last_line..].find("//") {
+            Some(c) => &trimmed[..last_line + c],
+            None => trimmed,
+        };
+        if cut.len() == slice.len() {
+            return start + slice.len();
+        }
+        slice = cut;
+    }
 }
 
 /// The start of the line holding byte `at`.
@@ -133,6 +152,14 @@ mod tests {
             ],
         );
         assert_eq!(out.unwrap(), "k (300, 2500.5, 180) N/mm // radial\na\nb\n");
+    }
+
+    #[test]
+    fn code_ends_before_the_comment_after_a_statement() {
+        let t = "    marker L7 at (1, 2, 3) cm  // centimetres\nnext";
+        assert_eq!(&t[4..code_end(t, 4, 45)], "marker L7 at (1, 2, 3) cm");
+        let t = "k (1, // a\n 2, 3) N/mm // b\n";
+        assert_eq!(&t[..code_end(t, 0, t.len())], "k (1, // a\n 2, 3) N/mm");
     }
 
     #[test]
