@@ -92,7 +92,11 @@ pub fn run(a: &Args) -> Exit {
     };
     // The output model is written first: the table on stdout is the last word.
     if let Some(out) = &a.output {
-        let text = crate::fmt::print_model(&crate::locate::correct::redesign(&c.model, &c.state));
+        let new = crate::locate::correct::redesign(&c.model, &c.state);
+        let text = match super::model_out::edited(&sources, id, &model, &new, "correct", &[]) {
+            Ok(t) => t,
+            Err(code) => return code,
+        };
         let code = super::input::emit(Some(out), &text);
         if code != Exit::Ok {
             return code;

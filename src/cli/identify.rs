@@ -99,6 +99,8 @@ pub fn run(a: &IdentifyArgs) -> Exit {
     let (Some(mut model), false) = (checked.model, errors) else {
         return Exit::Input;
     };
+    // As read: `--initial` changes the starting values, not the file's.
+    let checked_model = model.clone();
     if !(a.sigma > 0.0 && a.sigma.is_finite())
         || !(a.tolerance > 0.0)
         || !(a.match_tolerance > 0.0)
@@ -239,7 +241,12 @@ pub fn run(a: &IdentifyArgs) -> Exit {
     };
     r.notes.extend(notes);
     if let Some(out) = &a.output {
-        let text = crate::fmt::print_model(&r.apply(&model));
+        let new = r.apply(&model);
+        let text =
+            match super::model_out::edited(&sources, file, &checked_model, &new, "identify", &[]) {
+                Ok(t) => t,
+                Err(code) => return code,
+            };
         let code = super::input::emit(Some(out), &text);
         if code != Exit::Ok {
             return code;

@@ -74,7 +74,11 @@ pub fn run(a: &Args) -> Exit {
     let located = locate_all(&model, &steps, &opt);
     let rep = report(&model, &steps, &located, reference);
     if let Some(out) = &a.output {
-        let text = crate::fmt::print_model(&apply(&model, &located));
+        let new = apply(&model, &located);
+        let text = match super::model_out::edited(&sources, id, &model, &new, "locate", &[]) {
+            Ok(t) => t,
+            Err(code) => return code,
+        };
         let code = super::input::emit(Some(out), &text);
         if code != Exit::Ok {
             return code;
