@@ -5,9 +5,10 @@ use super::{Exit, OutFormat};
 use crate::diagnostic::Diagnostic;
 use crate::kc::kc_rows;
 use crate::model::LoadSetId;
+use crate::output::report::{CaseReport, angle_warnings, case_report};
+use crate::output::warning;
 use crate::output::{kc_table, number::round_json, parts_csv, solve_table};
-use crate::statics::report::{CaseReport, angle_warnings, case_report};
-use crate::statics::{Problem, warning};
+use crate::statics::Problem;
 use serde_json::json;
 use std::path::PathBuf;
 
