@@ -233,6 +233,9 @@ pub fn print_model(m: &Model) -> String {
         }
         o.push_str("}\n");
     }
+    for f in &m.frictions {
+        friction(&mut o, m, f);
+    }
     for w in &m.wheels {
         let _ = writeln!(
             o,
@@ -248,6 +251,28 @@ pub fn print_model(m: &Model) -> String {
         }
     }
     o
+}
+
+/// A friction with its motion written out (the default depends on the joint).
+fn friction(o: &mut String, m: &Model, f: &Friction) {
+    let (kf, limit) = match f.motion {
+        FrictionMotion::Slide => (Dim::STIFFNESS, Dim::FORCE),
+        FrictionMotion::Rotation => (Dim::ROT_STIFFNESS, Dim::TORQUE),
+    };
+    let joint = m
+        .joints
+        .get(f.joint.index())
+        .map_or("", |j| j.name.as_str());
+    let _ = writeln!(o, "\nfriction {} {{", f.name);
+    let _ = writeln!(o, "    joint {joint}");
+    let _ = writeln!(o, "    kf {}", scalar(m, &f.stiffness, kf));
+    let _ = writeln!(o, "    limit {}", scalar(m, &f.limit, limit));
+    let _ = writeln!(
+        o,
+        "    motion {}",
+        crate::check::friction_motion_word(f.motion)
+    );
+    o.push_str("}\n");
 }
 
 fn bushing(o: &mut String, m: &Model, b: &Bushing) {

@@ -1,0 +1,159 @@
+//! Dry friction end to end (`conventions.md`, "Friction"): the shipped
+//! McPherson with strut friction against the independent implementation along
+//! the bump sweep, and converging along the lateral and longitudinal sweeps.
+
+use axle::model::{LoadSetId, Model};
+use axle::output::report::case_report;
+use axle::statics::path::solve_path;
+use axle::statics::{Equilibrium, Problem};
+use serde_json::Value;
+
+fn example() -> Model {
+    let text = include_str!("../examples/mcpherson_friction.axle");
+    let (_, checked) = axle::check::check_str("mcpherson_friction.axle", text);
+    checked.model.expect("the friction example checks")
+}
+
+fn set(m: &Model, name: &str) -> LoadSetId {
+    let k = m
+        .load_sets
+        .iter()
+        .position(|s| s.name == name)
+        .expect("load set");
+    LoadSetId(k as u32)
+}
+
+fn along(m: &Model, name: &str) -> Vec<Equilibrium> {
+    let p = Problem::new(m).expect("problem");
+    match solve_path(&p, set(m, name)) {
+        Ok(eqs) => eqs,
+        Err(e) => panic!(
+            "{name} fails at case {}: {}",
+            e.case + 1,
+            e.error.message(m)
+        ),
+    }
+}
+
+fn nums(v: &Value) -> Vec<f64> {
+    match v {
+        Value::Array(a) => a.iter().flat_map(nums).collect(),
+        Value::Number(n) => vec![n.as_f64().expect("number")],
+        Value::Object(o) => o.values().flat_map(nums).collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// Largest difference of the numbers under `key` of two case reports.
+fn diff(got: &Value, want: &Value, key: &str) -> f64 {
+    let (g, w) = (nums(&got[key]), nums(&want[key]));
+    assert_eq!(
+        g.len(),
+        w.len(),
+        "{key}: {} numbers vs {}",
+        g.len(),
+        w.len()
+    );
+    g.iter()
+        .zip(&w)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn mcpherson_bump_with_strut_friction_matches_the_independent_solution() {
+    let m = example();
+    let eqs = along(&m, "bump");
+    let text = include_str!("data/expected/mcpherson_bump_friction_kf1000_Ff150.json");
+    let want: Value = serde_json::from_str(text).expect("JSON");
+    let cases = want["cases"].as_array().expect("cases");
+    assert_eq!(eqs.len(), cases.len());
+    let (mut pos, mut wheel, mut fr, mut force) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for (k, (eq, w)) in eqs.iter().zip(cases).enumerate() {
+        let got = serde_json::to_value(case_report(&m, "c", k + 1, eq)).expect("json");
+        let parts = want["cases"][k]["parts"].as_object().expect("parts");
+        for (name, wp) in parts {
+            // The strut's spin is a soft mode the reference converges less
+            // tightly (expected/README.md): its position only.
+            let g = &got["parts"][name];
+            let d = |key: &str| {
+                nums(&g[key])
+                    .iter()
+                    .zip(nums(&wp[key]))
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max)
+            };
+            pos = pos.max(d("position"));
+        }
+        let (gw, ww) = (&got["wheels"]["left"], &w["wheels"]["left"]);
+        for key in [
+            "center",
+            "travel_mm",
+            "half_track_mm",
+            "toe_deg",
+            "camber_deg",
+        ] {
+            wheel = wheel.max(diff(gw, ww, key));
+        }
+        let (gf, wf) = (
+            &got["frictions"]["L5_friction"],
+            &w["frictions"]["L5_friction"],
+        );
+        for key in ["slide", "slip_offset"] {
+            fr = fr.max(diff(gf, wf, key));
+        }
+        force = force.max(diff(gf, wf, "force"));
+        // Spring length (mm) and force (N).
+        wheel = wheel.max(diff(&got["springs"], &w["springs"], "spring"));
+    }
+    eprintln!(
+        "bump with friction: parts {pos:e} mm, wheel {wheel:e} mm|deg, slide/offset {fr:e} mm, forces {force:e} N"
+    );
+    assert!(pos < 1e-5, "part positions differ by {pos} mm");
+    assert!(wheel < 1e-5, "wheel quantities differ by {wheel}");
+    assert!(fr < 1e-5, "friction slide or offset differs by {fr} mm");
+    assert!(force < 1e-6, "friction force differs by {force} N");
+}
+
+/// The lateral and longitudinal sweeps (0 -> 4000 -> -4000 -> 0 N at fz 4500 N)
+/// converge at every step, the strut slips both ways, and the loop is open:
+/// the two passes through the same load differ (hysteresis).
+#[test]
+fn mcpherson_with_friction_converges_along_lateral_and_longitudinal() {
+    let m = example();
+    for name in ["lateral", "longitudinal"] {
+        let eqs = along(&m, name);
+        assert_eq!(eqs.len(), 65, "{name}");
+        let reports: Vec<Value> = eqs
+            .iter()
+            .enumerate()
+            .map(|(k, eq)| serde_json::to_value(case_report(&m, "c", k + 1, eq)).expect("json"))
+            .collect();
+        let fr = |k: usize, key: &str| reports[k]["frictions"]["L5_friction"][key].clone();
+        let slips: Vec<f64> = (0..65)
+            .filter(|&k| fr(k, "state") == "slip")
+            .map(|k| fr(k, "force").as_f64().expect("force"))
+            .collect();
+        assert!(
+            slips.iter().any(|f| (f - 150.0).abs() < 1e-6),
+            "{name}: slips up"
+        );
+        assert!(
+            slips.iter().any(|f| (f + 150.0).abs() < 1e-6),
+            "{name}: slips down"
+        );
+        // Cases 9 and 25 both carry 2000 N (up, then on the way down).
+        let toe = |k: usize| {
+            reports[k]["wheels"]["left"]["toe_deg"]
+                .as_f64()
+                .expect("toe")
+        };
+        let substeps: usize = eqs.iter().map(|e| e.substeps).sum();
+        eprintln!(
+            "{name}: toe at +2000 N up {} vs down {} deg, {substeps} sub-steps in all",
+            toe(8),
+            toe(24)
+        );
+        assert!((toe(8) - toe(24)).abs() > 1e-4, "{name}: no hysteresis");
+    }
+}
