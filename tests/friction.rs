@@ -157,3 +157,21 @@ fn mcpherson_with_friction_converges_along_lateral_and_longitudinal() {
         assert!((toe(8) - toe(24)).abs() > 1e-4, "{name}: no hysteresis");
     }
 }
+
+/// `kc --plot` of a path that turns back draws one polyline per direction,
+/// named in the legend; a path in one direction keeps one line per wheel.
+#[test]
+fn kc_plots_show_loading_and_unloading_as_two_branches() {
+    use axle::output::plot::{BRANCH_LABELS, Sweep, svg};
+    let m = example();
+    let eqs = along(&m, "lateral");
+    let states: Vec<_> = eqs.iter().map(|e| &e.state).collect();
+    let rows = axle::kc::kc_rows(&m, set(&m, "lateral"), &states);
+    let plot = svg("lateral", &rows, Sweep::Force(1)).expect("svg");
+    for label in BRANCH_LABELS {
+        assert!(plot.contains(label), "legend names the {label} branch");
+    }
+    // The first 17 rows only load (0 -> 4000 N): one line, no branch legend.
+    let plot = svg("lateral", &rows[..17], Sweep::Force(1)).expect("svg");
+    assert!(!plot.contains(BRANCH_LABELS[0]) && !plot.contains(BRANCH_LABELS[1]));
+}
