@@ -175,3 +175,94 @@ fn kc_plots_show_loading_and_unloading_as_two_branches() {
     let plot = svg("lateral", &rows[..17], Sweep::Force(1)).expect("svg");
     assert!(!plot.contains(BRANCH_LABELS[0]) && !plot.contains(BRANCH_LABELS[1]));
 }
+
+/// A slider on a translational joint along z between a spring (k = 10 N/mm)
+/// and friction (kf = 1000 N/mm, Ff = 150 N), written in the language.
+const SLIDER: &str = "ground chassis {
+    marker guide at (0, 0, 0) mm
+    marker base at (0, 0, -200) mm
+}
+
+part slider {
+    marker guide at (0, 0, 0) mm
+}
+
+joint slide translational {
+    i slider.guide
+    j chassis.guide
+}
+
+spring s {
+    i slider.guide
+    j chassis.base
+    k 10 N/mm
+    free_length 200 mm
+}
+
+friction seal {
+    joint slide
+    kf 1000 N/mm
+    limit 150 N
+}
+
+loads up_and_back sweep {
+    slider.guide.fz 0 N -> 1000 N -> -1000 N by 100 N
+}
+";
+
+fn slider(text: &str) -> Model {
+    let (_, checked) = axle::check::check_str("slider.axle", text);
+    checked.model.expect("the slider checks")
+}
+
+fn height(eq: &Equilibrium, m: &Model) -> f64 {
+    eq.state.part_pose(axle::model::PartId(1)).0.z
+}
+
+/// Along the path the slipping branches are `x = (F -+ Ff) / k`: at 500 N the
+/// unloading branch is 2 Ff / k = 30 mm above the loading one; solved alone
+/// from design the same case is a first loading and lies on the loading branch.
+#[test]
+fn slider_along_the_path_and_alone_differ_by_two_ff_over_k() {
+    let m = slider(SLIDER);
+    let eqs = along(&m, "up_and_back");
+    assert_eq!(eqs.len(), 31);
+    let x = |k: usize| height(&eqs[k], &m);
+    // Case 6 is 500 N loading, case 16 is 500 N on the way down.
+    assert!((x(5) - 35.0).abs() < 1e-8, "loading: {}", x(5));
+    assert!((x(15) - 65.0).abs() < 1e-8, "unloading: {}", x(15));
+    assert!((x(15) - x(5) - 2.0 * 150.0 / 10.0).abs() < 1e-8);
+    // At -1000 N after slipping down: (-1000 + 150) / 10.
+    assert!((x(30) + 85.0).abs() < 1e-8, "end: {}", x(30));
+    let p = Problem::new(&m).expect("problem");
+    let loads = m.point_loads(set(&m, "up_and_back"), 15);
+    let design = axle::statics::State::design(&m);
+    let alone = axle::statics::solve(&p, &loads, &design).expect("converges");
+    assert!((height(&alone, &m) - 35.0).abs() < 1e-8);
+    assert!((x(15) - height(&alone, &m) - 30.0).abs() < 1e-8);
+}
+
+/// Without the spring nothing holds the slider once its friction slips: the
+/// failure names the friction (and the part), at the case where it happens.
+#[test]
+fn a_failure_with_friction_names_the_friction_and_the_case() {
+    let text = SLIDER
+        .replace("spring s {\n    i slider.guide\n    j chassis.base\n    k 10 N/mm\n    free_length 200 mm\n}\n", "")
+        .replace("0 N -> 1000 N -> -1000 N by 100 N", "0 N -> 300 N by 100 N");
+    let m = slider(&text);
+    let p = Problem::new(&m).expect("problem");
+    let err = solve_path(&p, set(&m, "up_and_back")).expect_err("slips free");
+    // 100 N sticks; 200 N exceeds Ff = 150 N.
+    assert_eq!(err.case, 2, "{}", err.error.message(&m));
+    let msg = err.error.message(&m);
+    assert!(
+        err.error
+            .elements
+            .contains(&axle::model::ElementId::Friction(axle::model::FrictionId(
+                0
+            ))),
+        "{msg}"
+    );
+    eprintln!("{msg}");
+    assert!(msg.contains("friction `seal`"), "{msg}");
+}
