@@ -14,6 +14,8 @@ mod mobility;
 mod parts;
 mod props;
 
+pub(crate) use eval::plain_number;
+
 use crate::diagnostic::{Diagnostic, Problems};
 use crate::model::{ElementId, LoadSetId, Model, Param, ParamId};
 use crate::source::SourceMap;

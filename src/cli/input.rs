@@ -23,9 +23,9 @@ impl Loaded {
 
 /// Reads and checks a model; prints its warnings; `Err` carries the exit status.
 pub fn load_model(path: &Path) -> Result<Loaded, Exit> {
-    let text = super::read(path).ok_or(Exit::Io)?;
+    let text = super::read(path)?;
     let mut sources = SourceMap::new();
-    let id = sources.add(path.display().to_string(), text);
+    let id = sources.add(super::read::shown(path), text);
     let checked = crate::check::check_file(&mut sources, id);
     render::to_stderr(&sources, &checked.problems.list);
     match checked.model {
@@ -71,43 +71,40 @@ pub fn pick_set(loaded: &Loaded, name: Option<&str>) -> Result<LoadSetId, Diagno
     }
 }
 
-/// Writes results to `path`, or stdout.
+/// Writes results to `path` (`-` or none: stdout) through the one writer.
 pub fn emit(path: Option<&Path>, text: &str) -> Exit {
-    match path {
-        Some(p) => match std::fs::write(p, text) {
-            Ok(()) => Exit::Ok,
-            Err(e) => {
-                eprintln!("error: cannot write {}: {e}", p.display());
-                Exit::Io
-            }
-        },
-        None => {
-            use std::io::Write;
-            let mut out = std::io::stdout().lock();
-            // A closed pipe (`axle solve … | head`) is not an error of the input.
-            let _ = out.write_all(text.as_bytes());
-            let _ = out.flush();
-            Exit::Ok
-        }
-    }
+    super::write::emit(&super::write::Target::from_option(path), text)
+}
+
+/// A load set solved along its path: the converged cases, and the case that
+/// failed (its diagnostic already reported).
+pub struct Solved {
+    pub eqs: Vec<crate::statics::Equilibrium>,
+    pub failed: Option<crate::output::report::FailedCase>,
 }
 
 /// Solves a load set in order, each case from the previous state; a failure
-/// becomes a diagnostic naming the case, reported, and exit status 1.
+/// becomes a diagnostic naming the case and the element, reported, and the
+/// cases before it are kept for the caller to print (then exit status 1).
 pub fn solve_reporting(
     loaded: &Loaded,
     problem: &crate::statics::Problem,
     set: LoadSetId,
-) -> Result<Vec<crate::statics::Equilibrium>, Exit> {
+) -> Solved {
     let model = &loaded.model;
     let ls = &model.load_sets[set.index()];
-    crate::statics::path::solve_path(problem, set).map_err(|e| {
+    let run = crate::statics::path::run_set(problem, set, &crate::statics::State::design(model));
+    let failed = run.failure.map(|e| {
         let case = ls.cases.get(e.case).map_or("?", |c| c.name.as_str());
         loaded.report(&[e.error.to_diagnostic(model).note(format!(
             "in case `{case}` (step {}) of load set `{}`",
             e.case + 1,
             ls.name
         ))]);
-        Exit::Input
-    })
+        crate::output::report::FailedCase::new(model, case, e.case + 1, &e.error)
+    });
+    Solved {
+        eqs: run.steps,
+        failed,
+    }
 }
