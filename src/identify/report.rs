@@ -9,7 +9,7 @@
 //! values: the applied wheel load.
 
 use super::measured::Measured;
-use super::{IdentifyError, Method};
+use super::{IdentifyError, IdentifyErrorKind, Method};
 use crate::geom::Vec3;
 use crate::kc::{KcRow, WheelQuantities, wheel_quantities};
 use crate::model::{ElementId, Model, Wheel, WheelId};
@@ -118,18 +118,18 @@ fn simulate(
     which: &str,
 ) -> Result<Vec<WheelQuantities>, IdentifyError> {
     let problem = Problem::new(model)
-        .map_err(|e| IdentifyError::new(e.message(model), e.elements.clone()))?;
+        .map_err(|e| IdentifyError::statics(format!("report: the {which} model"), e, model))?;
     let mut prev = State::design(model);
     let mut out = Vec::with_capacity(data.steps.len());
     for s in &data.steps {
         let eq = statics::solve(&problem, &s.loads, &prev).map_err(|e| {
-            IdentifyError::new(
+            IdentifyError::statics(
                 format!(
-                    "report: the {which} model does not solve at step {}: {}",
-                    s.step,
-                    e.message(model)
+                    "report: the {which} model does not solve at step {}",
+                    s.step
                 ),
-                e.elements.clone(),
+                e,
+                model,
             )
         })?;
         out.push(wheel_quantities(model, &eq.state, w));
@@ -201,7 +201,8 @@ pub fn curves(
     data: &Measured,
 ) -> Result<Vec<Curves>, IdentifyError> {
     let Some(w) = initial.wheels.first() else {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Report,
             "the report plots toe and camber of a wheel, and the model has none (declare a `wheel`)",
             vec![],
         ));
@@ -211,7 +212,8 @@ pub fn curves(
         .iter()
         .all(|(f, t)| f.amax() == 0.0 && t.amax() == 0.0)
     {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Report,
             format!(
                 "the report plots against the load on wheel `{}`, and no step loads its contact marker",
                 w.name
@@ -223,7 +225,8 @@ pub fn curves(
         .map(|k| measured_row(initial, data, k, w))
         .collect();
     if measured.iter().all(Option::is_none) {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Report,
             format!(
                 "the report needs the measured toe and camber: give --kc, or landmarks on the part of wheel `{}`",
                 w.name
