@@ -801,3 +801,54 @@ fn mcpherson_without_top_mount_torsion_converges_or_names_the_cause() {
         }
     }
 }
+
+/// The path simulator keeps one solver along the path, so every case after
+/// the first starts with the previous equilibrium's factorisation as a linear
+/// predictor: it needs fewer factorisations than the same case solved by a
+/// fresh solver from the same start, which factorises on every Newton step.
+/// (Fails when the predictor is not used: the counts are then equal.)
+#[test]
+fn the_path_reuses_the_previous_factorisation_as_a_predictor() {
+    let m = mcpherson(1000.0);
+    let set = m.model.load_set_named("thesis_table_5_1").expect("set");
+    let problem = Problem::new(&m.model).expect("problem");
+    let path = statics::path::solve_path(&problem, set).expect("the path solves");
+    let mut fresh_total = 0;
+    let mut path_total = 0;
+    let mut predicted = 0;
+    for k in 1..path.len() {
+        let fresh = statics::solve(&problem, &m.model.point_loads(set, k), &path[k - 1].state)
+            .expect("the case solves alone");
+        eprintln!(
+            "case {}: path {} factorisations in {} iterations, fresh {} in {}",
+            k + 1,
+            path[k].factorizations,
+            path[k].iterations,
+            fresh.factorizations,
+            fresh.iterations
+        );
+        // A fresh solver factorises once per Newton step.
+        assert!(fresh.factorizations >= fresh.iterations, "case {}", k + 1);
+        // Both reach the same equilibrium.
+        let (a, b) = (
+            path[k].state.part_pose(PartId(1)).0,
+            fresh.state.part_pose(PartId(1)).0,
+        );
+        assert!((a - b).norm() < 1e-8, "case {}: {a} {b}", k + 1);
+        fresh_total += fresh.factorizations;
+        path_total += path[k].factorizations;
+        assert!(
+            path[k].factorizations <= fresh.factorizations,
+            "case {}",
+            k + 1
+        );
+        predicted += usize::from(path[k].factorizations < fresh.factorizations);
+    }
+    eprintln!(
+        "cases 2..13: path {path_total} factorisations, fresh solvers {fresh_total}; predictor saved one in {predicted} cases"
+    );
+    assert!(
+        predicted >= 9,
+        "the predictor worked in only {predicted} of 12 cases"
+    );
+}

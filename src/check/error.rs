@@ -133,6 +133,34 @@ pub fn bad_number(what: &str, span: Span, why: &str) -> Diagnostic {
     Diagnostic::error("E0204", format!("{what} {why}")).primary(span, why.to_string())
 }
 
+/// Magnitudes (internal units) no suspension comes near: a value beyond them
+/// is a slip of unit or exponent (`305 m` for `305 mm`, `1e200 N`), and would
+/// swamp every tolerance of the solver.
+pub const PLAUSIBLE: &[(Dim, f64, &str)] = &[
+    (Dim::LENGTH, 1e5, "100 m"),
+    (Dim::FORCE, 1e7, "10 MN"),
+    (Dim::TORQUE, 1e10, "10 MN*m"),
+    (Dim::STIFFNESS, 1e12, "1e12 N/mm"),
+    (Dim::ROT_STIFFNESS, 1e15, "1e15 N*mm/rad"),
+];
+
+/// E0214 when `value` of dimension `dim` is beyond [`PLAUSIBLE`].
+pub fn beyond_any_suspension(value: f64, dim: Dim, span: Span) -> Option<Diagnostic> {
+    let (_, limit, shown) = PLAUSIBLE.iter().find(|(d, ..)| *d == dim)?;
+    (value.abs() > *limit).then(|| {
+        let (f, u) = (dim.boundary_factor(), dim.boundary_unit());
+        Diagnostic::error(
+            "E0214",
+            format!(
+                "{:e} {u} is beyond any suspension (more than {shown})",
+                value / f
+            ),
+        )
+        .primary(span, "this value")
+        .hint("check the unit and the exponent")
+    })
+}
+
 pub fn negative_stiffness(element: &str, what: &str, span: Span) -> Diagnostic {
     Diagnostic::error("E0205", format!("negative stiffness in {element}"))
         .primary(span, format!("{what} is negative"))

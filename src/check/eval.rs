@@ -280,6 +280,10 @@ impl Checker {
                 .push(error::bad_number("this value", e.span, "is not finite"));
             return None;
         }
+        if let Some(d) = error::beyond_any_suspension(q.value, q.dim, e.span) {
+            self.problems.push(d);
+            return None;
+        }
         let param = match &e.kind {
             ExprKind::Param(name) => self.param_lookup(&name.name),
             _ => None,

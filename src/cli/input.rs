@@ -44,22 +44,35 @@ pub fn emit(path: Option<&Path>, text: &str) -> Exit {
     super::write::emit(&super::write::Target::from_option(path), text)
 }
 
+/// A load set solved along its path: the converged cases, and the case that
+/// failed (its diagnostic already reported).
+pub struct Solved {
+    pub eqs: Vec<crate::statics::Equilibrium>,
+    pub failed: Option<crate::output::report::FailedCase>,
+}
+
 /// Solves a load set in order, each case from the previous state; a failure
-/// becomes a diagnostic naming the case, reported, and exit status 1.
+/// becomes a diagnostic naming the case and the element, reported, and the
+/// cases before it are kept for the caller to print (then exit status 1).
 pub fn solve_reporting(
     loaded: &Loaded,
     problem: &crate::statics::Problem,
     set: LoadSetId,
-) -> Result<Vec<crate::statics::Equilibrium>, Exit> {
+) -> Solved {
     let model = &loaded.model;
     let ls = &model.load_sets[set.index()];
-    crate::statics::path::solve_path(problem, set).map_err(|e| {
+    let run = crate::statics::path::run_set(problem, set, &crate::statics::State::design(model));
+    let failed = run.failure.map(|e| {
         let case = ls.cases.get(e.case).map_or("?", |c| c.name.as_str());
         loaded.report(&[e.error.to_diagnostic(model).note(format!(
             "in case `{case}` (step {}) of load set `{}`",
             e.case + 1,
             ls.name
         ))]);
-        Exit::Input
-    })
+        crate::output::report::FailedCase::new(model, case, e.case + 1, &e.error)
+    });
+    Solved {
+        eqs: run.steps,
+        failed,
+    }
 }

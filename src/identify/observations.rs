@@ -18,7 +18,8 @@ use super::{IdentifyError, Unknown};
 use crate::geom::{Mat3, Vec3, skew};
 use crate::model::{Model, values};
 use crate::statics::newton::{assemble, col_scale, kkt};
-use crate::statics::{self, Problem, State};
+use crate::statics::path::Simulator;
+use crate::statics::{Problem, State};
 use nalgebra::{DMatrix, DVector};
 
 /// The registration's search variables: a rotation vector in mrad and a
@@ -139,34 +140,40 @@ impl Problemset<'_> {
         let (rr, rt) = self.correction(x);
         let problem =
             Problem::new(&m).map_err(|e| IdentifyError::new(e.message(&m), e.elements.clone()))?;
-        let mut states = Vec::with_capacity(self.data.steps.len());
-        let mut res = Vec::new();
-        let mut prev = State::design(&m);
-        for (k, s) in self.data.steps.iter().enumerate() {
-            let start = warm.get(k).cloned().unwrap_or_else(|| prev.clone());
-            let eq = statics::solve(&problem, &s.loads, &start).map_err(|e| {
-                let names: Vec<String> = self
-                    .unknowns
-                    .iter()
-                    .zip(x.iter())
-                    .map(|(u, xi)| {
-                        format!(
-                            "{} = {:.4e}",
-                            u.label(),
-                            crate::units::to_boundary(to_param(u, *xi), u.dim)
-                        )
-                    })
-                    .collect();
-                IdentifyError::new(
+        // Each step starts from `warm[k]` when given (the previous iterate's
+        // solution at that step); the history follows the path.
+        let run = Simulator::new().run(
+            &problem,
+            self.data.steps.iter().map(|s| &s.loads),
+            &State::design(&m),
+            warm,
+        );
+        if let Some(e) = run.failure {
+            let names: Vec<String> = self
+                .unknowns
+                .iter()
+                .zip(x.iter())
+                .map(|(u, xi)| {
                     format!(
-                        "step {}: the model does not solve at the trial values ({}): {}",
-                        s.step,
-                        names.join(", "),
-                        e.message(&m)
-                    ),
-                    e.elements.clone(),
-                )
-            })?;
+                        "{} = {:.4e}",
+                        u.label(),
+                        crate::units::to_boundary(to_param(u, *xi), u.dim)
+                    )
+                })
+                .collect();
+            return Err(IdentifyError::new(
+                format!(
+                    "step {}: the model does not solve at the trial values ({}): {}",
+                    self.data.steps[e.case].step,
+                    names.join(", "),
+                    e.error.message(&m)
+                ),
+                e.error.elements.clone(),
+            ));
+        }
+        let mut res = Vec::new();
+        let states: Vec<State> = run.steps.into_iter().map(|e| e.state).collect();
+        for (k, st) in states.iter().enumerate() {
             for o in &self.obs[k] {
                 let w = 1.0 / self.sigma(o);
                 match *o {
@@ -175,7 +182,7 @@ impl Problemset<'_> {
                         design,
                         target,
                     } => {
-                        let (t, r) = eq.state.part_pose(crate::model::PartId(part as u32));
+                        let (t, r) = st.part_pose(crate::model::PartId(part as u32));
                         let p = t + r * design;
                         let y = rr * target + rt;
                         for c in 0..3 {
@@ -189,12 +196,10 @@ impl Problemset<'_> {
                         }
                     }
                     Obs::Kc { channel, target } => {
-                        res.push((kc_value(&m, &eq.state, channel) - target) * w)
+                        res.push((kc_value(&m, st, channel) - target) * w)
                     }
                 }
             }
-            prev = eq.state.clone();
-            states.push(eq.state);
         }
         Ok((problem, states, DVector::from_vec(res)))
     }
@@ -414,7 +419,7 @@ mod tests {
             crate::check::check_str("m.axle", include_str!("../../examples/mcpherson.axle"));
         let m = c.model.expect("checks");
         let set = m.load_set_named("thesis_table_5_1").expect("set");
-        let eqs = statics::solve_set(&m, set).expect("solves");
+        let eqs = crate::statics::solve_set(&m, set).expect("solves");
         let steps: Vec<(State, Vec<_>)> = eqs
             .into_iter()
             .enumerate()

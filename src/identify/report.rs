@@ -13,7 +13,8 @@ use super::{IdentifyError, IdentifyErrorKind, Method};
 use crate::geom::Vec3;
 use crate::kc::{KcRow, WheelQuantities, wheel_quantities};
 use crate::model::{ElementId, Model, Wheel, WheelId};
-use crate::statics::{self, Problem, State};
+use crate::statics::path;
+use crate::statics::{Problem, State};
 
 /// Names of the load directions, by force component (fx, fy, fz).
 const DIRECTIONS: [&str; 3] = ["longitudinal", "lateral", "vertical"];
@@ -119,23 +120,23 @@ fn simulate(
 ) -> Result<Vec<WheelQuantities>, IdentifyError> {
     let problem = Problem::new(model)
         .map_err(|e| IdentifyError::statics(format!("report: the {which} model"), e, model))?;
-    let mut prev = State::design(model);
-    let mut out = Vec::with_capacity(data.steps.len());
-    for s in &data.steps {
-        let eq = statics::solve(&problem, &s.loads, &prev).map_err(|e| {
-            IdentifyError::statics(
-                format!(
-                    "report: the {which} model does not solve at step {}",
-                    s.step
-                ),
-                e,
-                model,
-            )
-        })?;
-        out.push(wheel_quantities(model, &eq.state, w));
-        prev = eq.state;
+    let run = path::simulate(
+        &problem,
+        data.steps.iter().map(|s| &s.loads),
+        &State::design(model),
+    );
+    if let Some(e) = run.failure {
+        let context = format!(
+            "report: the {which} model does not solve at step {}",
+            data.steps[e.case].step
+        );
+        return Err(IdentifyError::statics(context, e.error, model));
     }
-    Ok(out)
+    Ok(run
+        .steps
+        .iter()
+        .map(|eq| wheel_quantities(model, &eq.state, w))
+        .collect())
 }
 
 /// The steps of each load direction: those loaded along `c` alone (besides a

@@ -5,7 +5,7 @@ use crate::kc::{WheelQuantities, wheel_quantities};
 use crate::model::{BushingId, ElementId, Model, SpringId};
 use crate::statics::coords::Layout;
 use crate::statics::forces::{bushing, spring};
-use crate::statics::{Equilibrium, State};
+use crate::statics::{Equilibrium, State, StaticsError};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -103,6 +103,41 @@ pub fn case_report(model: &Model, name: &str, step: usize, eq: &Equilibrium) -> 
         bushings,
         springs,
         substeps: eq.substeps,
+    }
+}
+
+/// The case a path stopped at: what `solve` and `kc` print after the
+/// converged cases (the diagnostic itself goes to stderr).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FailedCase {
+    pub name: String,
+    pub step: usize,
+    pub converged: bool,
+    /// The error code (`E10xx`) and message, naming the element responsible.
+    pub code: &'static str,
+    pub error: String,
+    /// The elements responsible, as the model names them.
+    pub elements: Vec<String>,
+}
+
+impl FailedCase {
+    pub fn new(model: &Model, name: &str, step: usize, e: &StaticsError) -> FailedCase {
+        FailedCase {
+            name: name.to_string(),
+            step,
+            converged: false,
+            code: e.kind.code(),
+            error: e.message(model),
+            elements: e.elements.iter().map(|id| model.describe(*id)).collect(),
+        }
+    }
+
+    /// The one line a table prints for it.
+    pub fn line(&self) -> String {
+        format!(
+            "case {} (step {}): no equilibrium ({}): {}\n",
+            self.name, self.step, self.code, self.error
+        )
     }
 }
 

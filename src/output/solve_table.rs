@@ -3,7 +3,7 @@
 //! compliance comes from), springs, and the part displacements.
 
 use super::columns::{Cell, Col, col, render};
-use crate::output::report::CaseReport;
+use crate::output::report::{CaseReport, FailedCase};
 
 const WHEEL: [Col; 8] = [
     col("wheel", "", 0),
@@ -120,16 +120,29 @@ pub fn case(c: &CaseReport) -> String {
     out
 }
 
-/// The tables of all cases, separated by blank lines.
-pub fn cases(model: &str, set: &str, cases: &[CaseReport]) -> String {
+/// The tables of all cases, separated by blank lines; a path that stopped
+/// ends with the line of the case it stopped at.
+pub fn cases(model: &str, set: &str, cases: &[CaseReport], failed: Option<&FailedCase>) -> String {
     let n = cases.len();
-    let mut out = format!(
-        "model {model}, load set {set}: {n} case{}\n",
-        if n == 1 { "" } else { "s" }
-    );
+    let mut out = match failed {
+        None => format!(
+            "model {model}, load set {set}: {n} case{}\n",
+            if n == 1 { "" } else { "s" }
+        ),
+        Some(f) => format!(
+            "model {model}, load set {set}: {n} case{} converged, stopped at case {} (step {})\n",
+            if n == 1 { "" } else { "s" },
+            f.name,
+            f.step
+        ),
+    };
     for c in cases {
         out += "\n";
         out += &case(c);
+    }
+    if let Some(f) = failed {
+        out += "\n";
+        out += &f.line();
     }
     out
 }

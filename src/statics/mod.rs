@@ -444,30 +444,14 @@ fn not_converged(p: &Problem, st: &State, loads: &[PointLoad], force: f64) -> St
     )
 }
 
-/// Solves every case of a load set in order, each from the previous state.
+/// Solves every case of a load set in order, each from the previous state
+/// (the [`path`] simulator on a freshly compiled problem).
 pub fn solve_set(model: &Model, set: LoadSetId) -> Result<Vec<Equilibrium>, StaticsError> {
-    let Some(ls) = model.load_sets.get(set.index()) else {
-        return Err(StaticsError::new(
-            StaticsErrorKind::BadInput,
-            vec![],
-            format!("load set #{} does not exist", set.0),
-        ));
-    };
+    let cases = path::set_loads(model, set).map_err(|e| e.error)?;
     let problem = Problem::new(model)?;
-    let mut state = State::design(model);
-    let mut out = Vec::with_capacity(ls.cases.len());
-    let mut buffers = None;
-    for case in 0..ls.cases.len() {
-        let eq = solve_reusing(
-            &problem,
-            &model.point_loads(set, case),
-            &state,
-            &mut buffers,
-        )?;
-        state = eq.state.clone();
-        out.push(eq);
-    }
-    Ok(out)
+    path::simulate(&problem, &cases, &State::design(model))
+        .into_result()
+        .map_err(|e| e.error)
 }
 
 /// Mobility of the model at the design configuration (for the checker).
