@@ -197,8 +197,17 @@ impl Editor<'_> {
     /// Rewrites one changed field at its span; `false` when it was not written
     /// as something that can be rewritten (the element is then printed again).
     fn value(&mut self, element: ElementId, old: &Val, new: &Val) -> bool {
-        if old == new || (new.param.is_some() && new.param == old.param) {
-            // Unchanged, or bound to a parameter whose line carries the change.
+        if old == new {
+            // Unchanged: claim its text as is, so that another field written
+            // at the same place (`k_radial` for x and y) cannot change it alone.
+            if let Some(w) = old.written.filter(|w| w.span.file == self.file) {
+                let (s, e) = (w.span.start as usize, w.span.end as usize);
+                self.splice(s, e, self.text[s..e].to_string());
+            }
+            return true;
+        }
+        if new.param.is_some() && new.param == old.param {
+            // Bound to a parameter whose line carries the change.
             return true;
         }
         let Some(w) = old.written.filter(|w| w.span.file == self.file) else {
