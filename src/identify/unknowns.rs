@@ -28,6 +28,15 @@ impl Parameter for Unknown {
     fn element(&self) -> ElementId {
         self.addrs[0].element()
     }
+
+    fn force_element(&self, model: &Model) -> Option<ElementId> {
+        // A tied pair (k_x = k_y) changes one bushing.
+        let e = self.addrs[0].force_element(model)?;
+        self.addrs
+            .iter()
+            .all(|a| a.force_element(model) == Some(e))
+            .then_some(e)
+    }
 }
 
 /// One unknown: one or more addresses that always share a value.

@@ -5,7 +5,8 @@
 //! Layout: [`coords`] (6 coordinates per moving part, rotation increments by
 //! Rodrigues), [`wrench`] (the one generalised-force shape every element reduces
 //! to), [`constraint`] (joint primitives), [`forces`] (bushings, springs, stops,
-//! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`path`].
+//! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`path`] (the
+//! one load-path simulator), [`sensitivity`] (derivatives of equilibria).
 
 pub mod compliance;
 pub mod constraint;

@@ -116,6 +116,7 @@ impl Simulator {
                 .map_err(|error| PathError { case: 0, error });
             return (run, s);
         }
+        let values: Vec<f64> = params.iter().map(|p| p.value(problem.model())).collect();
         let mut work = problem.clone();
         let mut ws = Workspace::new(problem);
         let mut out = Vec::with_capacity(cases.len());
@@ -123,7 +124,7 @@ impl Simulator {
         let run = self.walk(problem, cases, start, guesses, |case, sv, eq| {
             let loads = eq.state.loads().to_vec();
             match sensitivity::at_equilibrium(
-                problem, &mut work, &mut ws, sv, &eq.state, &loads, params,
+                problem, &mut work, &mut ws, sv, &eq.state, &loads, params, &values,
             ) {
                 Ok(s) => {
                     out.push(s);

@@ -7,10 +7,11 @@
 //! solved with the factorisation the case's Newton run ended with (refined
 //! against the equilibrium's own matrix, which differs from it by at most the
 //! last Newton step), so no matrix is factorised again. `∂R/∂p` is a central
-//! difference of the element forces and constraint values at the fixed
-//! converged state (`h = 1e-5·max(|p|, 1)` in internal units; exact up to
-//! rounding for the parameters the forces are affine in, stiffnesses, rates,
-//! free lengths, preloads), never of a whole solve.
+//! difference at the fixed converged state (`h = 1e-5·max(|p|, 1)` in
+//! internal units; exact up to rounding for the parameters the forces are
+//! affine in: stiffnesses, rates, free lengths, preloads), never of a whole
+//! solve: of the one element's force when the parameter belongs to one
+//! bushing or spring, else of the whole residual (forces and constraints).
 //!
 //! Path-dependent elements (friction) make case `k` depend on the history
 //! committed at case `k - 1`, which depends on `p` too; the per-case implicit
@@ -25,10 +26,10 @@
 
 use super::coords::State;
 use super::newton::{Solver, Workspace, col_scale};
-use super::{Problem, StaticsError, StaticsErrorKind};
+use super::{Problem, StaticsError, StaticsErrorKind, forces};
 use crate::geom::{Mat3, Vec3, skew};
 use crate::model::address::Address;
-use crate::model::{ElementId, Model, Orientation, PartId, PointLoad};
+use crate::model::{AxisLaw, ElementId, Model, Orientation, PartId, PointLoad, SpringLaw, Val};
 use nalgebra::{DMatrix, DVector, Matrix3xX};
 
 /// A value of a model that a caller can read and set (internal units).
@@ -40,6 +41,12 @@ pub trait Parameter {
     fn moves_geometry(&self, model: &Model) -> bool;
     /// The element it belongs to, for diagnostics.
     fn element(&self) -> ElementId;
+    /// The one force element whose force alone it changes, when there is
+    /// one (then `∂R/∂p` is that element's force difference, not the whole
+    /// residual's).
+    fn force_element(&self, _model: &Model) -> Option<ElementId> {
+        None
+    }
 }
 
 impl Parameter for Address {
@@ -64,6 +71,43 @@ impl Parameter for Address {
 
     fn element(&self) -> ElementId {
         Address::element(*self)
+    }
+
+    fn force_element(&self, model: &Model) -> Option<ElementId> {
+        // A field bound to a declared parameter sets that parameter, and so
+        // every element bound to it.
+        let free = |v: &Val| v.param.is_none();
+        match *self {
+            Address::BushingK(b, n) | Address::BushingKt(b, n) => {
+                let bush = model.bushings.get(b.index())?;
+                let law = match self {
+                    Address::BushingK(..) => &bush.translational[n],
+                    _ => &bush.rotational[n],
+                };
+                match law {
+                    AxisLaw::Linear { k, .. } if free(k) => Some(ElementId::Bushing(b)),
+                    _ => None,
+                }
+            }
+            Address::SpringK(sp) | Address::SpringFreeLength(sp) | Address::SpringPreload(sp) => {
+                match &model.springs.get(sp.index())?.law {
+                    SpringLaw::Linear {
+                        k,
+                        free_length,
+                        preload,
+                    } => {
+                        let v = match self {
+                            Address::SpringK(_) => k,
+                            Address::SpringFreeLength(_) => free_length,
+                            _ => preload,
+                        };
+                        free(v).then_some(ElementId::Spring(sp))
+                    }
+                    SpringLaw::Table(_) => None,
+                }
+            }
+            Address::Param(_) | Address::JointPoint(..) => None,
+        }
     }
 }
 
@@ -168,23 +212,62 @@ fn step_of(v: f64) -> f64 {
     1e-5 * v.abs().max(1.0)
 }
 
+/// The generalised force of one bushing or spring at `state`, scaled as the
+/// residual; `None` for another kind of element.
+fn element_force(
+    p: &Problem,
+    state: &State,
+    e: ElementId,
+) -> Result<Option<DVector<f64>>, StaticsError> {
+    let mut q = DVector::zeros(p.layout.n());
+    match e {
+        ElementId::Bushing(b) => {
+            forces::bushing(&p.model, &p.layout, state, &p.model.bushings[b.index()])
+                .wrench
+                .add_force(&mut q);
+        }
+        ElementId::Spring(sp) => {
+            forces::spring(&p.model, &p.layout, state, sp, &p.model.springs[sp.index()])?
+                .2
+                .add_force(&mut q);
+        }
+        _ => return Ok(None),
+    }
+    for (i, v) in q.iter_mut().enumerate() {
+        *v *= col_scale(i, p.length);
+    }
+    Ok(Some(q))
+}
+
 /// `-∂R/∂p` (scaled as the Newton matrix) per parameter at `state`, by
-/// central differences of the residual evaluation on `work` (a copy of the
-/// problem, restored afterwards).
+/// central differences at the fixed state on `work` (a copy of the problem,
+/// restored afterwards): of the one element a parameter changes when it
+/// changes one ([`Parameter::force_element`]), else of the whole residual.
+/// `values[j]` is parameter `j`'s value.
 fn rhs<P: Parameter>(
     work: &mut Problem,
     ws: &mut Workspace,
     state: &State,
     loads: &[PointLoad],
     params: &[P],
+    values: &[f64],
 ) -> Result<DMatrix<f64>, StaticsError> {
     let (n, m) = (work.layout.n(), work.kept.len());
     let mut b = DMatrix::zeros(n + m, params.len());
-    for (j, p) in params.iter().enumerate() {
-        let v = p.value(&work.model);
+    for (j, (p, &v)) in params.iter().zip(values).enumerate() {
         let h = step_of(v);
+        let element = p.force_element(&work.model);
         let mut at = |x: f64| -> Result<Vec<f64>, StaticsError> {
             p.set_value(&mut work.model, x);
+            if let Some(e) = element
+                && let Some(q) = element_force(work, state, e)?
+            {
+                return Ok(q
+                    .iter()
+                    .copied()
+                    .chain(std::iter::repeat_n(0.0, m))
+                    .collect());
+            }
             ws.eval(work, state, loads, false)?;
             Ok(ws.r.iter().chain(&ws.phi).copied().collect())
         };
@@ -199,56 +282,44 @@ fn rhs<P: Parameter>(
     Ok(b)
 }
 
-/// Solves the Newton system at the equilibrium for every column of `b`, with
-/// `sv.lu` refined against the equilibrium's matrix `sv.ws.a` (iterative
-/// refinement; the two matrices differ by the last Newton step); factorises
-/// that matrix when the refinement does not reach rounding level.
+/// `x` solving `lu x = b` column by column; false if the solve fails.
+fn lu_solve(sv: &mut Solver, x: &mut DMatrix<f64>) -> bool {
+    for mut col in x.column_iter_mut() {
+        if !sv.lu.solve(col.as_mut_slice()) {
+            return false;
+        }
+    }
+    true
+}
+
+/// Solves the Newton system at the equilibrium for every column of `b` with
+/// the factorisation at hand (`sv.lu`, of the last Newton iterate's matrix,
+/// which differs from the equilibrium's by the last step), refined once
+/// against the equilibrium's own matrix `sv.ws.a`; factorises that matrix
+/// when the refined residual is not at rounding level.
 fn solve_refined(sv: &mut Solver, b: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     let nn = b.nrows();
-    let amax = (0..nn)
-        .flat_map(|j| (0..nn).map(move |i| (i, j)))
-        .fold(0.0f64, |m, (i, j)| m.max(sv.ws.a[(i, j)].abs()));
-    let mut out = DMatrix::zeros(nn, b.ncols());
-    let mut refactored = false;
-    let mut col = 0;
-    while col < b.ncols() {
-        let bmax = b.column(col).amax();
-        let mut x: Vec<f64> = b.column(col).iter().copied().collect();
-        if !sv.lu.solve(&mut x) {
-            return None;
-        }
-        let mut done = false;
-        for _ in 0..8 {
-            let a = &sv.ws.a;
-            let mut r: Vec<f64> = (0..nn)
-                .map(|i| b[(i, col)] - (0..nn).map(|k| a[(i, k)] * x[k]).sum::<f64>())
-                .collect();
-            let xmax = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let rmax = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            // Rounding level of the product `A x` itself.
-            if rmax <= 1e-13 * (bmax + amax * xmax) * nn as f64 {
-                done = true;
-                break;
-            }
-            if !sv.lu.solve(&mut r) {
-                return None;
-            }
-            x.iter_mut().zip(&r).for_each(|(xi, ri)| *xi += ri);
-        }
-        if done {
-            out.set_column(col, &DVector::from_vec(x));
-            col += 1;
-            continue;
-        }
-        // The stored factorisation is too far from the equilibrium's matrix:
-        // factorise that one and start this column again.
-        if refactored || !sv.lu.factor(&sv.ws.a) {
-            return None;
-        }
-        refactored = true;
-        sv.factorizations += 1;
+    let a = DMatrix::from_fn(nn, nn, |i, j| sv.ws.a[(i, j)]);
+    let mut x = b.clone();
+    if !lu_solve(sv, &mut x) {
+        return None;
     }
-    Some(out)
+    let mut r = b - &a * &x;
+    if !lu_solve(sv, &mut r) {
+        return None;
+    }
+    x += r;
+    let res = (b - &a * &x).amax();
+    // Rounding level of the product `A x` itself.
+    if res <= 1e-13 * (b.amax() + a.amax() * x.amax()) * nn as f64 {
+        return Some(x);
+    }
+    if !sv.lu.factor(&sv.ws.a) {
+        return None;
+    }
+    sv.factorizations += 1;
+    let mut x = b.clone();
+    lu_solve(sv, &mut x).then_some(x)
 }
 
 /// The sensitivity of the case `sv` just converged to (`state` under
@@ -262,9 +333,10 @@ pub(crate) fn at_equilibrium<P: Parameter>(
     state: &State,
     loads: &[PointLoad],
     params: &[P],
+    values: &[f64],
 ) -> Result<CaseSensitivity, StaticsError> {
     let n = problem.layout.n();
-    let b = rhs(work, ws, state, loads, params)?;
+    let b = rhs(work, ws, state, loads, params, values)?;
     let x = solve_refined(sv, &b).ok_or_else(|| {
         StaticsError::new(
             StaticsErrorKind::Unrestrained,
