@@ -215,7 +215,7 @@ fn slider(text: &str) -> Model {
     checked.model.expect("the slider checks")
 }
 
-fn height(eq: &Equilibrium, m: &Model) -> f64 {
+fn height(eq: &Equilibrium) -> f64 {
     eq.state.part_pose(axle::model::PartId(1)).0.z
 }
 
@@ -227,7 +227,7 @@ fn slider_along_the_path_and_alone_differ_by_two_ff_over_k() {
     let m = slider(SLIDER);
     let eqs = along(&m, "up_and_back");
     assert_eq!(eqs.len(), 31);
-    let x = |k: usize| height(&eqs[k], &m);
+    let x = |k: usize| height(&eqs[k]);
     // Case 6 is 500 N loading, case 16 is 500 N on the way down.
     assert!((x(5) - 35.0).abs() < 1e-8, "loading: {}", x(5));
     assert!((x(15) - 65.0).abs() < 1e-8, "unloading: {}", x(15));
@@ -238,8 +238,8 @@ fn slider_along_the_path_and_alone_differ_by_two_ff_over_k() {
     let loads = m.point_loads(set(&m, "up_and_back"), 15);
     let design = axle::statics::State::design(&m);
     let alone = axle::statics::solve(&p, &loads, &design).expect("converges");
-    assert!((height(&alone, &m) - 35.0).abs() < 1e-8);
-    assert!((x(15) - height(&alone, &m) - 30.0).abs() < 1e-8);
+    assert!((height(&alone) - 35.0).abs() < 1e-8);
+    assert!((x(15) - height(&alone) - 30.0).abs() < 1e-8);
 }
 
 /// Without the spring nothing holds the slider once its friction slips: the

@@ -602,7 +602,7 @@ fn friction(
     let (Some(x0), Some(xh)) = (root(0.0), root(0.5 * hi)) else {
         return false;
     };
-    if !(x0 > xh) {
+    if x0 <= xh {
         return false;
     }
     let kf = 0.5 * hi / (x0 - xh);
