@@ -6,6 +6,8 @@ mod bushing;
 mod elements;
 mod error;
 mod eval;
+mod friction;
+pub use friction::{allows as friction_allows, motion_word as friction_motion_word};
 mod geometry;
 mod loads;
 mod mobility;

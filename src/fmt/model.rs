@@ -115,6 +115,7 @@ pub fn print_model(m: &Model) -> String {
         .chain((0..m.bushings.len()).map(|i| ElementId::Bushing(BushingId(i as u32))))
         .chain((0..m.springs.len()).map(|i| ElementId::Spring(SpringId(i as u32))))
         .chain((0..m.stops.len()).map(|i| ElementId::Stop(StopId(i as u32))))
+        .chain((0..m.frictions.len()).map(|i| ElementId::Friction(FrictionId(i as u32))))
         .chain((0..m.wheels.len()).map(|i| ElementId::Wheel(WheelId(i as u32))));
     for id in elements {
         o.push('\n');
@@ -195,7 +196,7 @@ pub fn landmark_line(m: &Model, l: &Landmark) -> String {
     )
 }
 
-/// One element block (joint, bushing, spring, stop, wheel), ending in `}` and a
+/// One element block (joint, bushing, spring, stop, friction, wheel), ending in `}` and a
 /// line break; `None` for ids that are not such elements (parts, markers,
 /// landmarks, parameters, load sets have printers of their own).
 pub fn element(m: &Model, id: ElementId) -> Option<String> {
@@ -205,6 +206,7 @@ pub fn element(m: &Model, id: ElementId) -> Option<String> {
         ElementId::Bushing(b) => bushing(&mut o, m, &m.bushings[b.index()]),
         ElementId::Spring(s) => spring(&mut o, m, &m.springs[s.index()]),
         ElementId::Stop(s) => stop(&mut o, m, &m.stops[s.index()]),
+        ElementId::Friction(f) => friction(&mut o, m, &m.frictions[f.index()]),
         ElementId::Wheel(w) => {
             let w = &m.wheels[w.index()];
             let _ = writeln!(
@@ -290,6 +292,28 @@ fn stop(o: &mut String, m: &Model, s: &Stop) {
             let _ = writeln!(o, "    law {}", table(t, Dim::LENGTH, Dim::FORCE));
         }
     }
+    o.push_str("}\n");
+}
+
+/// A friction with its motion written out (the default depends on the joint).
+fn friction(o: &mut String, m: &Model, f: &Friction) {
+    let (kf, limit) = match f.motion {
+        FrictionMotion::Slide => (Dim::STIFFNESS, Dim::FORCE),
+        FrictionMotion::Rotation => (Dim::ROT_STIFFNESS, Dim::TORQUE),
+    };
+    let joint = m
+        .joints
+        .get(f.joint.index())
+        .map_or("", |j| j.name.as_str());
+    let _ = writeln!(o, "friction {} {{", f.name);
+    let _ = writeln!(o, "    joint {joint}");
+    let _ = writeln!(o, "    kf {}", scalar(m, &f.stiffness, kf));
+    let _ = writeln!(o, "    limit {}", scalar(m, &f.limit, limit));
+    let _ = writeln!(
+        o,
+        "    motion {}",
+        crate::check::friction_motion_word(f.motion)
+    );
     o.push_str("}\n");
 }
 

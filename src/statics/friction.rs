@@ -181,6 +181,16 @@ pub fn commit(model: &Model, layout: &Layout, state: &mut State) {
     }
 }
 
+/// Stick or slip at a committed state, from its force: a step that slipped
+/// leaves the force at the limit (to rounding), a sticking one inside it.
+pub fn committed_state(f: &Friction, force: f64) -> FrictionState {
+    if force.abs() >= f.limit.value * (1.0 - 1e-9) {
+        FrictionState::Slip
+    } else {
+        FrictionState::Stick
+    }
+}
+
 /// The friction elements at or beyond their limit at a (failed) trial state:
 /// the ones a step that would not converge names.
 pub fn near_limit(model: &Model, layout: &Layout, state: &State) -> Vec<FrictionId> {

@@ -18,6 +18,7 @@ pub mod mobility;
 pub mod newton;
 pub mod path;
 pub mod redundancy;
+pub mod sensitivity;
 #[cfg(test)]
 mod testkit;
 pub mod wrench;
@@ -27,6 +28,7 @@ pub use coords::State;
 pub use error::{StaticsError, StaticsErrorKind};
 pub use mobility::{Mobility, Motion};
 pub use redundancy::RedundantEquation;
+pub use sensitivity::{CaseSensitivity, Parameter};
 
 use crate::geom::Vec3;
 use crate::model::{ElementId, JointId, LoadSetId, Model, PointLoad};
