@@ -149,7 +149,7 @@ fn identify(
 
     // Landmarks → part poses (warnings point at the data line left out).
     let files = super::locate::landmark_files(sources, &a.landmarks)
-        .map_err(|(d, code)| Failure(vec![d], code))?;
+        .map_err(|(d, code)| Failure(vec![*d], code))?;
     let mut remarks = inputs::Remarks::default();
     let landmarks = inputs::read_landmarks(sources, &files, &model, &mut remarks);
     let poses = landmarks.map(|l| l.fit(sources, &model, a.match_tolerance, &mut remarks));

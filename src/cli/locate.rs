@@ -160,12 +160,12 @@ fn is_iges(p: &Path) -> bool {
 pub fn landmark_files(
     sources: &mut SourceMap,
     paths: &[PathBuf],
-) -> Result<Vec<LandmarkFile>, (Diagnostic, Exit)> {
+) -> Result<Vec<LandmarkFile>, (Box<Diagnostic>, Exit)> {
     let mut files = Vec::new();
     for path in paths {
         let (text, format) = if is_iges(path) {
             let bytes = super::read::read_bytes(path);
-            let bytes = bytes.map_err(|e| (e.to_diagnostic(sources, path), e.exit()))?;
+            let bytes = bytes.map_err(|e| (Box::new(e.to_diagnostic(sources, path)), e.exit()))?;
             (
                 crate::data::iges::ascii_columns(&bytes),
                 LandmarkFormat::Iges,
@@ -173,7 +173,7 @@ pub fn landmark_files(
         } else {
             let text = super::read::read_text(path);
             (
-                text.map_err(|e| (e.to_diagnostic(sources, path), e.exit()))?,
+                text.map_err(|e| (Box::new(e.to_diagnostic(sources, path)), e.exit()))?,
                 LandmarkFormat::Csv,
             )
         };
@@ -192,7 +192,7 @@ pub fn landmarks(
     tolerance: f64,
 ) -> Result<(Landmarks, Vec<crate::measure::poses::StepPoses>), Exit> {
     let files = landmark_files(sources, paths).map_err(|(d, code)| {
-        render::to_stderr(sources, &[d]);
+        render::to_stderr(sources, &[*d]);
         code
     })?;
     let mut remarks = Remarks::default();
