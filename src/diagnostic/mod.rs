@@ -30,6 +30,16 @@ pub struct Diagnostic {
     pub labels: Vec<Label>,
     pub notes: Vec<String>,
     pub hint: Option<String>,
+    /// Machine-applicable corrections (the did-you-mean candidate in place of
+    /// the misspelt name), for editors' quick fixes; the hint words them.
+    pub fixes: Vec<Fix>,
+}
+
+/// Replace the text of `span` with `replacement`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Fix {
+    pub span: Span,
+    pub replacement: String,
 }
 
 impl Diagnostic {
@@ -41,6 +51,7 @@ impl Diagnostic {
             labels: Vec::new(),
             notes: Vec::new(),
             hint: None,
+            fixes: Vec::new(),
         }
     }
 
@@ -85,6 +96,32 @@ impl Diagnostic {
     pub fn hint(mut self, hint: impl Into<String>) -> Self {
         self.hint = Some(hint.into());
         self
+    }
+
+    /// Offers `replacement` for the text at `span` as a quick fix.
+    pub fn fix(mut self, span: Span, replacement: impl Into<String>) -> Self {
+        self.fixes.push(Fix {
+            span,
+            replacement: replacement.into(),
+        });
+        self
+    }
+
+    /// The did-you-mean hint for the closest candidate, with its quick fix when
+    /// `span` is the name itself (not a longer text such as a load channel).
+    pub fn did_you_mean<'a>(
+        self,
+        span: Span,
+        name: &str,
+        candidates: impl IntoIterator<Item = &'a str>,
+    ) -> Self {
+        match suggest::best(name, candidates) {
+            Some(c) if span.range().len() == name.len() => {
+                self.hint(suggest::did_you_mean_text(c)).fix(span, c)
+            }
+            Some(c) => self.hint(suggest::did_you_mean_text(c)),
+            None => self,
+        }
     }
 
     pub fn is_error(&self) -> bool {
