@@ -156,8 +156,9 @@ mod tests {
         let a = analyse(&mut sources, id, Passes::FAST);
         let d = &a.problems.list[0];
         assert_eq!(d.code, "E0101");
-        assert_eq!(d.fixes.len(), 1);
-        assert_eq!(d.fixes[0].replacement, "arm");
-        assert_eq!(&misspelt[d.fixes[0].span.range()], "amr");
+        let fixes: Vec<_> = d.fixes().collect();
+        assert_eq!(fixes.len(), 1);
+        assert_eq!(fixes[0].1, "arm");
+        assert_eq!(&misspelt[fixes[0].0.range()], "amr");
     }
 }

@@ -19,6 +19,11 @@ pub struct Label {
     pub span: Span,
     pub message: String,
     pub primary: bool,
+    /// A machine-applicable correction of the labelled text (the did-you-mean
+    /// candidate in place of a misspelt name), for editors' quick fixes; the
+    /// diagnostic's hint words it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fix: Option<String>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -30,16 +35,6 @@ pub struct Diagnostic {
     pub labels: Vec<Label>,
     pub notes: Vec<String>,
     pub hint: Option<String>,
-    /// Machine-applicable corrections (the did-you-mean candidate in place of
-    /// the misspelt name), for editors' quick fixes; the hint words them.
-    pub fixes: Vec<Fix>,
-}
-
-/// Replace the text of `span` with `replacement`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Fix {
-    pub span: Span,
-    pub replacement: String,
 }
 
 impl Diagnostic {
@@ -51,7 +46,6 @@ impl Diagnostic {
             labels: Vec::new(),
             notes: Vec::new(),
             hint: None,
-            fixes: Vec::new(),
         }
     }
 
@@ -67,6 +61,7 @@ impl Diagnostic {
             span,
             message: message.into(),
             primary: true,
+            fix: None,
         });
         self
     }
@@ -76,6 +71,7 @@ impl Diagnostic {
             span,
             message: message.into(),
             primary: false,
+            fix: None,
         });
         self
     }
@@ -98,13 +94,20 @@ impl Diagnostic {
         self
     }
 
-    /// Offers `replacement` for the text at `span` as a quick fix.
+    /// Offers `replacement` for the text of the label at `span` as a quick fix
+    /// (nothing when no label has that span: a fix always replaces labelled text).
     pub fn fix(mut self, span: Span, replacement: impl Into<String>) -> Self {
-        self.fixes.push(Fix {
-            span,
-            replacement: replacement.into(),
-        });
+        if let Some(l) = self.labels.iter_mut().find(|l| l.span == span) {
+            l.fix = Some(replacement.into());
+        }
         self
+    }
+
+    /// The quick fixes: a span and its replacement.
+    pub fn fixes(&self) -> impl Iterator<Item = (Span, &str)> + '_ {
+        self.labels
+            .iter()
+            .filter_map(|l| Some((l.span, l.fix.as_deref()?)))
     }
 
     /// The did-you-mean hint for the closest candidate, with its quick fix when

@@ -43,10 +43,10 @@ fn first_keywords(rule: &str, depth: usize, out: &mut Vec<&'static str>) {
         for a in alternatives {
             first_keywords(a, depth + 1, out);
         }
-    } else if let Some(first) = body.split([' ', '~']).find(|s| !s.is_empty()) {
-        if is_name(first) {
-            first_keywords(first, depth + 1, out);
-        }
+    } else if let Some(first) = body.split([' ', '~']).find(|s| !s.is_empty())
+        && is_name(first)
+    {
+        first_keywords(first, depth + 1, out);
     }
 }
 
