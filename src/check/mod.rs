@@ -57,6 +57,8 @@ pub struct Analysis {
     pub problems: Problems,
     /// Definitions and references of names, with their spans.
     pub resolution: Resolution,
+    /// The file had no syntax error: the tree is the whole file.
+    pub parsed: bool,
 }
 
 /// Parses and checks a file of the source map; imported stdlib modules are added
@@ -159,7 +161,8 @@ fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize, passes: Pass
         mut resolution,
         ..
     } = checker;
-    if !syntax_errors.is_empty() {
+    let parsed = syntax_errors.is_empty();
+    if !parsed {
         problems = Problems {
             list: syntax_errors,
         };
@@ -170,6 +173,7 @@ fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize, passes: Pass
         model,
         problems,
         resolution,
+        parsed,
     }
 }
 

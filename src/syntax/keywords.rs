@@ -116,6 +116,12 @@ mod tests {
         for e in element_keywords() {
             assert!(item_keywords().contains(e), "{e} starts an item");
         }
+        // Every element keyword of the grammar has its kind in the tree.
+        let kinds: Vec<&str> = crate::syntax::ast::ElementKw::ALL
+            .iter()
+            .map(|k| k.keyword())
+            .collect();
+        assert_eq!(kinds, element_keywords());
         assert!(item_keywords().contains(&"loads"));
         assert_eq!(part_item_keywords(), ["marker", "landmark"]);
         assert!(all_keywords().contains(&"unknown"));
