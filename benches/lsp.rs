@@ -32,12 +32,22 @@ fn notification(method: &str, text: &str) -> Message {
 fn change_to_diagnostics(b: divan::Bencher) {
     let mut server = Server::default();
     let edited = MCPHERSON.replace("k 30 N/mm", "k 31 N/mm");
-    b.bench_local(|| server.handle(divan::black_box(notification("textDocument/didChange", &edited))));
+    b.bench_local(|| {
+        server.handle(divan::black_box(notification(
+            "textDocument/didChange",
+            &edited,
+        )))
+    });
 }
 
 /// A save: the same plus the mobility analysis.
 #[divan::bench]
 fn save_to_diagnostics(b: divan::Bencher) {
     let mut server = Server::default();
-    b.bench_local(|| server.handle(divan::black_box(notification("textDocument/didSave", MCPHERSON))));
+    b.bench_local(|| {
+        server.handle(divan::black_box(notification(
+            "textDocument/didSave",
+            MCPHERSON,
+        )))
+    });
 }

@@ -128,12 +128,13 @@ mod tests {
 
     #[test]
     fn utf16_positions_count_code_units() {
-        // `é` is 2 bytes and 1 UTF-16 unit; `𝑥` (U+1D465) is 4 bytes and 2 units.
+        // `é` is 2 bytes and 1 UTF-16 unit; `𝑥` (U+1D465) is 4 bytes and 2 units:
+        // `// é𝑥 ` is 3 + 1 + 2 + 1 = 7 units.
         let mut s = SourceMap::new();
         let id = s.add("t", "ab\n// é𝑥 z\r\nq");
         let z = "ab\n// é𝑥 ".len();
-        assert_eq!(s.utf16_position(id, z), (1, 6));
-        assert_eq!(s.utf16_offset(id, 1, 6), z);
+        assert_eq!(s.utf16_position(id, z), (1, 7));
+        assert_eq!(s.utf16_offset(id, 1, 7), z);
         assert_eq!(s.utf16_position(id, 0), (0, 0));
         assert_eq!(s.utf16_offset(id, 2, 0), "ab\n// é𝑥 z\r\n".len());
         // Past the end of a line: its end, before `\r\n`; past the text: its end.

@@ -1,4 +1,4 @@
-//! Joints, bushings, springs, stops and wheels.
+//! Joints, bushings, springs, stops and wheels; frictions in [`super::friction`].
 
 use super::Checker;
 use super::error;
@@ -23,6 +23,7 @@ pub fn properties(kw: ElementKw) -> &'static [&'static str] {
         ElementKw::Bushing => super::bushing::BUSHING_PROPS,
         ElementKw::Spring => SPRING_PROPS,
         ElementKw::Stop => STOP_PROPS,
+        ElementKw::Friction => super::friction::FRICTION_PROPS,
         ElementKw::Wheel => WHEEL_PROPS,
     }
 }
@@ -30,6 +31,7 @@ pub fn properties(kw: ElementKw) -> &'static [&'static str] {
 impl Checker {
     pub(super) fn elements(&mut self, ast: &File) {
         let mut names: BTreeMap<String, Span> = BTreeMap::new();
+        let mut frictions = Vec::new();
         for item in &ast.items {
             let ItemKind::Element(e) = &item.kind else {
                 continue;
@@ -49,6 +51,7 @@ impl Checker {
                 ElementKw::Bushing => self.bushing(e),
                 ElementKw::Spring => self.spring(e),
                 ElementKw::Stop => self.stop(e),
+                ElementKw::Friction => frictions.push(e),
                 ElementKw::Wheel => self.wheel(e),
             }
             if e.keyword != ElementKw::Joint && e.keyword != ElementKw::Stop {
@@ -67,6 +70,10 @@ impl Checker {
                     );
                 }
             }
+        }
+        // After every joint: a friction names its joint, declared anywhere.
+        for e in frictions {
+            self.friction(e);
         }
     }
 

@@ -8,6 +8,8 @@ mod bushing;
 mod elements;
 mod error;
 mod eval;
+mod friction;
+pub use friction::{allows as friction_allows, motion_word as friction_motion_word};
 mod geometry;
 mod loads;
 mod mobility;
@@ -17,6 +19,8 @@ mod resolution;
 
 pub use elements::properties;
 pub use resolution::{Resolution, Symbol};
+
+pub(crate) use eval::plain_number;
 
 use crate::diagnostic::{Diagnostic, Problems};
 use crate::model::{ElementId, LoadSetId, Model, Param, ParamId};

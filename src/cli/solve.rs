@@ -5,9 +5,10 @@ use super::{Exit, OutFormat};
 use crate::diagnostic::Diagnostic;
 use crate::kc::kc_rows;
 use crate::model::LoadSetId;
+use crate::output::report::{CaseReport, angle_warnings, case_report};
+use crate::output::warning;
 use crate::output::{kc_table, number::round_json, parts_csv, solve_table};
-use crate::statics::report::{CaseReport, angle_warnings, case_report};
-use crate::statics::{Problem, warning};
+use crate::statics::Problem;
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -34,11 +35,11 @@ fn load_set(loaded: &mut Loaded, args: &Args) -> Result<LoadSetId, Exit> {
             Exit::Input
         });
     };
-    let text = super::read(path).ok_or(Exit::Io)?;
+    let text = super::read(path)?;
     let name = path
         .file_stem()
         .map_or("loads".into(), |s| s.to_string_lossy().into_owned());
-    let file = loaded.sources.add(path.display().to_string(), text.clone());
+    let file = loaded.sources.add(super::read::shown(path), text.clone());
     match crate::data::loads::read(&text, &name, &loaded.model) {
         Ok(set) => {
             loaded.model.load_sets.push(set);
@@ -71,7 +72,8 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
     };
     let problem = Problem::new(model).map_err(|e| fail(e.to_diagnostic(model)))?;
     let ls = &model.load_sets[set.index()];
-    let eqs = super::input::solve_reporting(&loaded, &problem, set)?;
+    let solved = super::input::solve_reporting(&loaded, &problem, set);
+    let (eqs, failed) = (&solved.eqs, solved.failed.as_ref());
     let reports: Vec<CaseReport> = eqs
         .iter()
         .zip(&ls.cases)
@@ -88,6 +90,9 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
     let text = match args.format {
         OutFormat::Json => {
             let mut v = json!({ "model": model.name, "load_set": ls.name, "cases": reports });
+            if let (Some(f), Some(cases)) = (failed, v["cases"].as_array_mut()) {
+                cases.push(json!(f));
+            }
             if let Some(t) = &trim {
                 v["trim"] = t.json.clone();
             }
@@ -100,7 +105,7 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
                 .map_or(String::new(), |t| format!("{}\n", t.line));
             format!(
                 "{head}{}",
-                solve_table::cases(&model.name, &ls.name, &reports)
+                solve_table::cases(&model.name, &ls.name, &reports, failed)
             )
         }
         OutFormat::Csv if model.wheels.is_empty() => parts_csv::csv(&reports),
@@ -109,5 +114,9 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
             kc_table::csv(&kc_rows(model, set, &states))
         }
     };
-    Ok(emit(args.output.as_deref(), &text))
+    match emit(args.output.as_deref(), &text) {
+        // The converged cases are written; the failing one was reported.
+        Exit::Ok if failed.is_some() => Ok(Exit::Input),
+        e => Ok(e),
+    }
 }

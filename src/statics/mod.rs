@@ -5,23 +5,22 @@
 //! Layout: [`coords`] (6 coordinates per moving part, rotation increments by
 //! Rodrigues), [`wrench`] (the one generalised-force shape every element reduces
 //! to), [`constraint`] (joint primitives), [`forces`] (bushings, springs, stops,
-//! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`report`].
+//! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`path`].
 
 pub mod compliance;
 pub mod constraint;
 pub mod coords;
 pub mod error;
 pub mod forces;
+pub mod friction;
 mod linear;
 pub mod mobility;
 pub mod newton;
 pub mod path;
 pub mod redundancy;
-pub mod report;
+pub mod sensitivity;
 #[cfg(test)]
 mod testkit;
-pub mod trim;
-pub mod warning;
 pub mod wrench;
 
 pub use compliance::compliance;
@@ -29,6 +28,7 @@ pub use coords::State;
 pub use error::{StaticsError, StaticsErrorKind};
 pub use mobility::{Mobility, Motion};
 pub use redundancy::RedundantEquation;
+pub use sensitivity::{CaseSensitivity, Parameter};
 
 use crate::geom::Vec3;
 use crate::model::{ElementId, JointId, LoadSetId, Model, PointLoad};
@@ -262,6 +262,8 @@ pub(crate) fn solve_reusing(
                 steps += 1;
                 state = trial;
                 state.loads = l;
+                // An accepted (sub-)step: its friction slip becomes history.
+                friction::commit(model, &problem.layout, &mut state);
                 s = target;
                 ds *= 2.0;
             }
@@ -395,7 +397,13 @@ fn not_converged(p: &Problem, st: &State, loads: &[PointLoad], force: f64) -> St
         if ratio < 1e-6 {
             return StaticsError::new(
                 StaticsErrorKind::NotConverged,
-                vec![ElementId::Part(motion.part)],
+                std::iter::once(ElementId::Part(motion.part))
+                    .chain(
+                        friction::near_limit(&p.model, &p.layout, st)
+                            .into_iter()
+                            .map(ElementId::Friction),
+                    )
+                    .collect(),
                 format!(
                     "{detail}: the {} is nearly unrestrained (stiffness ratio {ratio:.1e}) (residual {ef:.2e} of the force scale, {ec:.2e} of the length)",
                     motion.words
@@ -424,6 +432,10 @@ fn not_converged(p: &Problem, st: &State, loads: &[PointLoad], force: f64) -> St
             elements.push(id);
         }
     }
+    // A friction at its limit switches between stick and slip from one
+    // iteration to the next, the usual way a path with friction fails: name it.
+    let slipping = friction::near_limit(&p.model, &p.layout, st);
+    elements.extend(slipping.iter().map(|&f| ElementId::Friction(f)));
     StaticsError::new(
         StaticsErrorKind::NotConverged,
         elements,
@@ -434,30 +446,14 @@ fn not_converged(p: &Problem, st: &State, loads: &[PointLoad], force: f64) -> St
     )
 }
 
-/// Solves every case of a load set in order, each from the previous state.
+/// Solves every case of a load set in order, each from the previous state
+/// (the [`path`] simulator on a freshly compiled problem).
 pub fn solve_set(model: &Model, set: LoadSetId) -> Result<Vec<Equilibrium>, StaticsError> {
-    let Some(ls) = model.load_sets.get(set.index()) else {
-        return Err(StaticsError::new(
-            StaticsErrorKind::BadInput,
-            vec![],
-            format!("load set #{} does not exist", set.0),
-        ));
-    };
+    let cases = path::set_loads(model, set).map_err(|e| e.error)?;
     let problem = Problem::new(model)?;
-    let mut state = State::design(model);
-    let mut out = Vec::with_capacity(ls.cases.len());
-    let mut buffers = None;
-    for case in 0..ls.cases.len() {
-        let eq = solve_reusing(
-            &problem,
-            &model.point_loads(set, case),
-            &state,
-            &mut buffers,
-        )?;
-        state = eq.state.clone();
-        out.push(eq);
-    }
-    Ok(out)
+    path::simulate(&problem, &cases, &State::design(model))
+        .into_result()
+        .map_err(|e| e.error)
 }
 
 /// Mobility of the model at the design configuration (for the checker).

@@ -3,6 +3,7 @@
 //! keeps the items that parsed (the language server works on those).
 
 pub mod ast;
+pub mod depth;
 pub mod keywords;
 pub mod parser;
 mod partial;
@@ -21,6 +22,7 @@ pub fn parse(file: FileId, text: &str) -> Result<ast::File, Diagnostic> {
     // (tests, the language server) do not race on it.
     static DETAIL: std::sync::Once = std::sync::Once::new();
     DETAIL.call_once(|| pest::set_error_detail(true));
+    depth::check(file, text)?;
     match AxleParser::parse(Rule::file, text) {
         Ok(mut pairs) => {
             let root = pairs.next().expect("invariant: `file` matched");

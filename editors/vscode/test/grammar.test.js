@@ -78,7 +78,7 @@ function expected(t, block) {
     if (ITEM_WORDS.includes(first)) return "entity.name.function.element";
   }
   if (block === "top" && first === "default" && before.length === 2) return "entity.name.tag.loads";
-  if (block === "top" && before.length === 2 && ["joint", "stop", "friction"].includes(first)) return "support.type.kind";
+  if (block === "top" && before.length === 2 && IDENT.test(t.text) && ["joint", "stop", "friction"].includes(first)) return "support.type.kind";
   if (block === "top" && first === "loads" && before.length === 2) return "keyword.other";
   if (block === "part" && before.length === 0) return "keyword.other";
   if (block === "part" && before.length === 1) return "variable.other.member.marker";

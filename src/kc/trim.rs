@@ -4,10 +4,11 @@
 //! once the sign of the height error changes (then bisection when a secant step
 //! would leave it), so a badly scaled first guess cannot run away.
 
-use super::error::{StaticsError, StaticsErrorKind};
-use super::{Problem, State, solve};
 use crate::model::address::Address;
 use crate::model::{MarkerId, Model, PointLoad};
+use crate::statics::path::solve_case;
+use crate::statics::{Problem, State};
+use crate::statics::{StaticsError, StaticsErrorKind};
 
 /// Height error below which the trim has converged, mm.
 pub const TOLERANCE_MM: f64 = 1e-8;
@@ -38,7 +39,7 @@ fn height(
     let mut m = model.clone();
     address.set(&mut m, value);
     let problem = Problem::new(&m)?;
-    let eq = solve(&problem, loads, &State::design(&m))?;
+    let eq = solve_case(&problem, loads, &State::design(&m))?;
     let mk = m.marker(marker);
     let (x, r) = eq.state.part_pose(mk.part);
     Ok((x + r * mk.origin()).z)
