@@ -7,7 +7,11 @@
 //! 3. backends read the model: [`statics`] (equilibrium, K&C), the printer
 //!    ([`fmt`]), the ADAMS decks ([`emit`]); [`import`] reads ADAMS datasets back.
 //!
-//! Only `main.rs` and `cli/` touch the filesystem.
+//! [`lsp`] serves editors (`axle lsp`) from the same stages; it works on partial
+//! results ([`check::analyse`]) so a file with errors still has names and hovers.
+//!
+//! Only `main.rs`, `cli/` and `lsp/` (stdio, and read-only copies of the stdlib
+//! for editors to open) touch the filesystem.
 
 pub mod check;
 pub mod cli;
@@ -20,6 +24,7 @@ pub mod identify;
 pub mod import;
 pub mod kc;
 pub mod locate;
+pub mod lsp;
 pub mod measure;
 pub mod model;
 pub mod output;
