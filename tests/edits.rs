@@ -203,3 +203,36 @@ fn correct_o_keeps_comments_and_units_and_restates_moved_frames() {
         diff(&variant(), &text)
     ));
 }
+
+/// `identify` failures are diagnostics with codes, on stderr for the table and
+/// as `{"diagnostics": [...]}` on stdout with `--format json` (exit 1 both).
+#[test]
+fn identify_failures_are_coded_diagnostics_in_both_formats() {
+    let csv = landmarks("thesis_table_5_1", "edits_fail.csv");
+    let tmp = env!("CARGO_TARGET_TMPDIR");
+    let redact = |s: &str| s.replace(tmp, "TMP");
+    let base = ["identify", TRUTH, "--landmarks", &csv, "--method", "lsq"];
+    let with = |extra: &[&str]| {
+        let mut v = base.to_vec();
+        v.extend(extra);
+        axle(&v)
+    };
+    // A misspelt load set: E0801 with a did-you-mean.
+    let (code, stdout, stderr) = with(&["--loadcases", "thesis_table_5_2"]);
+    assert_eq!(code, 1);
+    assert!(stdout.is_empty());
+    // 17 cases of Table 4.4 against the landmarks of Table 5.1's steps: E1101.
+    let (code2, _, stderr2) = with(&["--loadcases", "thesis_table_4_4"]);
+    assert_eq!(code2, 1);
+    let (code3, json, _) = with(&["--loadcases", "thesis_table_4_4", "--format", "json"]);
+    assert_eq!(code3, 1);
+    let v: serde_json::Value = serde_json::from_str(&json).expect("one JSON document");
+    assert_eq!(v["diagnostics"][0]["code"], "E1101");
+    assert_eq!(v["diagnostics"][0]["severity"], "error");
+    insta::assert_snapshot!(format!(
+        "----- --loadcases thesis_table_5_2 (stderr)\n{}----- --loadcases thesis_table_4_4 (stderr)\n{}----- --loadcases thesis_table_4_4 --format json (stdout)\n{}",
+        redact(&stderr),
+        redact(&stderr2),
+        redact(&json)
+    ));
+}

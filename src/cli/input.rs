@@ -2,7 +2,6 @@
 //! diagnostics), pick a load set by name, print diagnostics, write results.
 
 use super::Exit;
-use crate::diagnostic::suggest::did_you_mean;
 use crate::diagnostic::{Diagnostic, render};
 use crate::model::{LoadSetId, Model};
 use crate::source::SourceMap;
@@ -37,38 +36,7 @@ pub fn load_model(path: &Path) -> Result<Loaded, Exit> {
 /// The set named `name`, or the model's default set. An unknown name gets a
 /// did-you-mean and the list of sets.
 pub fn pick_set(loaded: &Loaded, name: Option<&str>) -> Result<LoadSetId, Diagnostic> {
-    let m = &loaded.model;
-    let names = || m.load_sets.iter().map(|s| s.name.as_str());
-    let listing = || {
-        let all: Vec<&str> = names().collect();
-        if all.is_empty() {
-            "the model has no load-case sets (write a `loads` block, or `import mcpherson_loads`)"
-                .to_string()
-        } else {
-            format!("the model's load-case sets: {}", all.join(", "))
-        }
-    };
-    match name {
-        Some(n) => m.load_set_named(n).ok_or_else(|| {
-            let d = Diagnostic::error("E0801", format!("the model has no load-case set `{n}`"))
-                .note(listing());
-            match did_you_mean(n, names()) {
-                Some(h) => d.hint(h),
-                None if ["bump", "lateral", "longitudinal"].contains(&n) => {
-                    d.hint("the K&C sweeps come with `import mcpherson_loads`")
-                }
-                None => d,
-            }
-        }),
-        None => m.default_load_set.ok_or_else(|| {
-            Diagnostic::error(
-                "E0802",
-                "no load-case set named and the model has no `default loads`",
-            )
-            .note(listing())
-            .hint("name one with --loadcases SET, or give loads with --loads CSV")
-        }),
-    }
+    crate::measure::inputs::pick_set(&loaded.model, name)
 }
 
 /// Writes results to `path` (`-` or none: stdout) through the one writer.

@@ -37,6 +37,21 @@ impl Default for IterativeOptions {
     }
 }
 
+/// The stiffnesses set in place in the compiled problem (the constraint
+/// analysis is not compiled again).
+fn set_values(
+    problem: &mut Problem,
+    unknowns: &[Unknown],
+    values: &[f64],
+) -> Result<(), IdentifyError> {
+    for (u, v) in unknowns.iter().zip(values) {
+        problem
+            .set_force_parameter(u, *v)
+            .map_err(|e| IdentifyError::new(e.message(problem.model()), e.elements.clone()))?;
+    }
+    Ok(())
+}
+
 /// The bushing axis an address names: (bushing, axis 0..6 with 3.. rotational).
 fn axis(a: Address) -> Option<(BushingId, usize)> {
     match a {
@@ -163,9 +178,7 @@ pub fn identify(
     let mut problem = Problem::new(model)
         .map_err(|e| IdentifyError::new(e.message(model), e.elements.clone()))?;
     let mut values: Vec<f64> = unknowns.iter().map(|u| u.initial).collect();
-    for (u, v) in unknowns.iter().zip(&values) {
-        u.set(&mut problem.model, *v);
-    }
+    set_values(&mut problem, unknowns, &values)?;
     let mut history = vec![HistoryEntry {
         iteration: 0,
         values: values.clone(),
@@ -206,10 +219,10 @@ pub fn identify(
                     .iter()
                     .map(|st| {
                         let ev = forces::bushing(
-                            &problem.model,
+                            problem.model(),
                             &layout,
                             st,
-                            &problem.model.bushings[b.index()],
+                            &problem.model().bushings[b.index()],
                         );
                         // The force on I opposes the deformation: regress -F.
                         -(if ax < 3 {
@@ -257,9 +270,7 @@ pub fn identify(
             .filter(|&i| (next[i] - values[i]).abs() > opts.tolerance * values[i].abs())
             .collect();
         values = next;
-        for (u, v) in unknowns.iter().zip(&values) {
-            u.set(&mut problem.model, *v);
-        }
+        set_values(&mut problem, unknowns, &values)?;
         history.push(HistoryEntry {
             iteration: it,
             values: values.clone(),

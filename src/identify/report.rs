@@ -9,7 +9,7 @@
 //! values: the applied wheel load.
 
 use super::measured::Measured;
-use super::{IdentifyError, Method};
+use super::{IdentifyError, IdentifyErrorKind, Method};
 use crate::geom::Vec3;
 use crate::kc::{KcRow, WheelQuantities, wheel_quantities};
 use crate::model::{ElementId, Model, Wheel, WheelId};
@@ -119,21 +119,18 @@ fn simulate(
     which: &str,
 ) -> Result<Vec<WheelQuantities>, IdentifyError> {
     let problem = Problem::new(model)
-        .map_err(|e| IdentifyError::new(e.message(model), e.elements.clone()))?;
+        .map_err(|e| IdentifyError::statics(format!("report: the {which} model"), e, model))?;
     let run = path::simulate(
         &problem,
         data.steps.iter().map(|s| &s.loads),
         &State::design(model),
     );
     if let Some(e) = run.failure {
-        return Err(IdentifyError::new(
-            format!(
-                "report: the {which} model does not solve at step {}: {}",
-                data.steps[e.case].step,
-                e.error.message(model)
-            ),
-            e.error.elements.clone(),
-        ));
+        let context = format!(
+            "report: the {which} model does not solve at step {}",
+            data.steps[e.case].step
+        );
+        return Err(IdentifyError::statics(context, e.error, model));
     }
     Ok(run
         .steps
@@ -205,7 +202,8 @@ pub fn curves(
     data: &Measured,
 ) -> Result<Vec<Curves>, IdentifyError> {
     let Some(w) = initial.wheels.first() else {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Report,
             "the report plots toe and camber of a wheel, and the model has none (declare a `wheel`)",
             vec![],
         ));
@@ -215,7 +213,8 @@ pub fn curves(
         .iter()
         .all(|(f, t)| f.amax() == 0.0 && t.amax() == 0.0)
     {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Report,
             format!(
                 "the report plots against the load on wheel `{}`, and no step loads its contact marker",
                 w.name
@@ -227,7 +226,8 @@ pub fn curves(
         .map(|k| measured_row(initial, data, k, w))
         .collect();
     if measured.iter().all(Option::is_none) {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Report,
             format!(
                 "the report needs the measured toe and camber: give --kc, or landmarks on the part of wheel `{}`",
                 w.name

@@ -5,7 +5,8 @@
 //! Layout: [`coords`] (6 coordinates per moving part, rotation increments by
 //! Rodrigues), [`wrench`] (the one generalised-force shape every element reduces
 //! to), [`constraint`] (joint primitives), [`forces`] (bushings, springs, stops,
-//! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`path`].
+//! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`path`] (the
+//! one load-path simulator), [`sensitivity`] (derivatives of equilibria).
 
 pub mod compliance;
 pub mod constraint;
@@ -18,6 +19,7 @@ pub mod mobility;
 pub mod newton;
 pub mod path;
 pub mod redundancy;
+pub mod sensitivity;
 #[cfg(test)]
 mod testkit;
 pub mod wrench;
@@ -27,6 +29,7 @@ pub use coords::State;
 pub use error::{StaticsError, StaticsErrorKind};
 pub use mobility::{Mobility, Motion};
 pub use redundancy::RedundantEquation;
+pub use sensitivity::{CaseSensitivity, Parameter};
 
 use crate::geom::Vec3;
 use crate::model::{ElementId, JointId, LoadSetId, Model, PointLoad};

@@ -16,7 +16,8 @@
 //! from the path's own previous case, so path-dependent physics is the same
 //! as along a cold path.
 
-use super::newton::Solver;
+use super::newton::{Solver, Workspace};
+use super::sensitivity::{self, CaseSensitivity, Parameter};
 use super::{Equilibrium, Problem, State, StaticsError, StaticsErrorKind, solve_reusing};
 use crate::model::{LoadSetId, Model, PointLoad};
 
@@ -89,6 +90,70 @@ impl Simulator {
         start: &State,
         guesses: &[State],
     ) -> PathRun {
+        self.walk(problem, cases, start, guesses, |_, _, _| Ok(()))
+    }
+
+    /// As [`Simulator::run`], with the derivative of every converged case
+    /// with respect to `params` ([`super::sensitivity`]): by implicit
+    /// differentiation with each case's own factorisation, or, for a model
+    /// with path-dependent elements (friction), by central differences of
+    /// whole paths. The sensitivities stop where the path or their own
+    /// computation (a singular equilibrium) failed, with that failure.
+    pub fn run_with_sensitivities<L: AsRef<[PointLoad]>, P: Parameter>(
+        &mut self,
+        problem: &Problem,
+        cases: &[L],
+        start: &State,
+        guesses: &[State],
+        params: &[P],
+    ) -> (PathRun, Result<Vec<CaseSensitivity>, PathError>) {
+        if !problem.model().frictions.is_empty() {
+            let run = self.run(problem, cases, start, guesses);
+            if let Some(f) = run.failure.clone() {
+                return (run, Err(f));
+            }
+            let s = sensitivity::path_by_differences(problem, cases, start, params)
+                .map_err(|error| PathError { case: 0, error });
+            return (run, s);
+        }
+        let values: Vec<f64> = params.iter().map(|p| p.value(problem.model())).collect();
+        let mut work = problem.clone();
+        let mut ws = Workspace::new(problem);
+        let mut out = Vec::with_capacity(cases.len());
+        let mut failed = None;
+        let run = self.walk(problem, cases, start, guesses, |case, sv, eq| {
+            let loads = eq.state.loads().to_vec();
+            match sensitivity::at_equilibrium(
+                problem, &mut work, &mut ws, sv, &eq.state, &loads, params, &values,
+            ) {
+                Ok(s) => {
+                    out.push(s);
+                    Ok(())
+                }
+                Err(error) => {
+                    failed = Some(PathError { case, error });
+                    Err(())
+                }
+            }
+        });
+        let result = match failed.or_else(|| run.failure.clone()) {
+            Some(e) => Err(e),
+            None => Ok(out),
+        };
+        (run, result)
+    }
+
+    /// The path loop; `after(case, solver, equilibrium)` runs after each
+    /// converged case, with the solver holding that equilibrium's matrix, and
+    /// stops the path when it fails.
+    fn walk<L: AsRef<[PointLoad]>>(
+        &mut self,
+        problem: &Problem,
+        cases: impl IntoIterator<Item = L>,
+        start: &State,
+        guesses: &[State],
+        mut after: impl FnMut(usize, &mut Solver, &Equilibrium) -> Result<(), ()>,
+    ) -> PathRun {
         // The last factorisation belongs to another path (maybe another
         // problem): no predictor from it.
         if let Some(sv) = &mut self.solver {
@@ -106,12 +171,22 @@ impl Simulator {
                 None => committed,
             };
             match solve_reusing(problem, loads.as_ref(), from, &mut self.solver) {
-                Ok(eq) => steps.push(eq),
-                Err(error) => {
-                    return PathRun {
-                        steps,
-                        failure: Some(PathError { case, error }),
+                Ok(eq) => {
+                    let stop = match &mut self.solver {
+                        Some(sv) => after(case, sv, &eq).is_err(),
+                        None => false,
                     };
+                    steps.push(eq);
+                    if stop {
+                        return PathRun {
+                            steps,
+                            failure: None,
+                        };
+                    }
+                }
+                Err(error) => {
+                    let failure = Some(PathError { case, error });
+                    return PathRun { steps, failure };
                 }
             }
         }

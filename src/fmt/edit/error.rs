@@ -7,7 +7,7 @@ use crate::span::Span;
 #[derive(Debug, Clone, PartialEq)]
 pub enum EditError {
     /// The input text no longer parses (it was checked before, so it changed).
-    Input(Diagnostic),
+    Input(Box<Diagnostic>),
     /// A change this file cannot take in place (a removed element, new load sets).
     Unsupported {
         /// The element, as `Model::describe` names it, and where it is written.
@@ -19,7 +19,7 @@ pub enum EditError {
     /// The edited text does not check; its first error.
     DoesNotCheck {
         text: String,
-        first: Option<Diagnostic>,
+        first: Option<Box<Diagnostic>>,
     },
     /// The edited text checks but prints another model: the first line that differs.
     DoesNotReproduce { expected: String, found: String },
@@ -29,7 +29,7 @@ impl EditError {
     pub fn to_diagnostic(&self) -> Diagnostic {
         const NOTHING: &str = "nothing was written; the input file is unchanged";
         match self {
-            EditError::Input(d) => d.clone(),
+            EditError::Input(d) => (**d).clone(),
             EditError::Unsupported { element, what } => {
                 let mut d = Diagnostic::error(
                     "E1201",

@@ -4,6 +4,9 @@
 
 use crate::model::*;
 
+/// A walk over the numeric fields of one element kind, in a fixed order.
+pub type Walk<T> = fn(&mut T, &mut dyn FnMut(&mut Val));
+
 /// Visits every numeric field of a marker (position, then Euler angles).
 pub fn marker_vals(m: &mut Marker, f: &mut dyn FnMut(&mut Val)) {
     m.position.iter_mut().for_each(&mut *f);
@@ -60,7 +63,7 @@ pub fn friction_vals(fr: &mut Friction, f: &mut dyn FnMut(&mut Val)) {
 }
 
 /// The fields of an element, in visiting order.
-pub fn collect<T: Clone>(x: &T, walk: fn(&mut T, &mut dyn FnMut(&mut Val))) -> Vec<Val> {
+pub fn collect<T: Clone>(x: &T, walk: Walk<T>) -> Vec<Val> {
     let mut copy = x.clone();
     let mut out = Vec::new();
     walk(&mut copy, &mut |v| out.push(*v));
@@ -69,11 +72,7 @@ pub fn collect<T: Clone>(x: &T, walk: fn(&mut T, &mut dyn FnMut(&mut Val))) -> V
 
 /// Whether two elements differ in more than their numeric fields (kind, law,
 /// markers, tables, orientation form): such an element is printed again.
-pub fn same_shape<T: Clone + PartialEq>(
-    a: &T,
-    b: &T,
-    walk: fn(&mut T, &mut dyn FnMut(&mut Val)),
-) -> bool {
+pub fn same_shape<T: Clone + PartialEq>(a: &T, b: &T, walk: Walk<T>) -> bool {
     let blank = |x: &T| {
         let mut c = x.clone();
         walk(&mut c, &mut |v| *v = Val::ZERO);

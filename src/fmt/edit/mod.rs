@@ -15,6 +15,7 @@
 //! The result is checked again and must print the same model as the one asked
 //! for; otherwise nothing is returned but an [`EditError`].
 
+mod append;
 mod error;
 mod fields;
 mod splice;
@@ -23,9 +24,7 @@ mod tests;
 
 pub use error::EditError;
 
-use super::model::{
-    element, landmark_line, marker_line, number, orientation, param_line, part_block,
-};
+use super::model::{element, landmark_line, marker_line, number, orientation, param_line};
 use crate::model::*;
 use crate::span::FileId;
 use crate::syntax::ast::File;
@@ -74,7 +73,7 @@ pub fn edit_source(
     new: &Model,
     req: &Request,
 ) -> Result<Edited, EditError> {
-    let ast = crate::syntax::parse(file, text).map_err(EditError::Input)?;
+    let ast = crate::syntax::parse(file, text).map_err(|d| EditError::Input(Box::new(d)))?;
     let target = keep_unchanged_frames(old, new);
     let mut e = Editor {
         file,
@@ -120,7 +119,13 @@ fn keep_unchanged_frames(old: &Model, new: &Model) -> Model {
 fn verify(name: &str, out: &str, target: &Model) -> Result<(), EditError> {
     let (_, checked) = crate::check::check_str(name, out);
     let Some(again) = checked.model else {
-        let first = checked.problems.list.iter().find(|d| d.is_error()).cloned();
+        let first = checked
+            .problems
+            .list
+            .iter()
+            .find(|d| d.is_error())
+            .cloned()
+            .map(Box::new);
         return Err(EditError::DoesNotCheck {
             text: out.to_string(),
             first,
@@ -197,8 +202,17 @@ impl Editor<'_> {
     /// Rewrites one changed field at its span; `false` when it was not written
     /// as something that can be rewritten (the element is then printed again).
     fn value(&mut self, element: ElementId, old: &Val, new: &Val) -> bool {
-        if old == new || (new.param.is_some() && new.param == old.param) {
-            // Unchanged, or bound to a parameter whose line carries the change.
+        if old == new {
+            // Unchanged: claim its text as is, so that another field written
+            // at the same place (`k_radial` for x and y) cannot change it alone.
+            if let Some(w) = old.written.filter(|w| w.span.file == self.file) {
+                let (s, e) = (w.span.start as usize, w.span.end as usize);
+                self.splice(s, e, self.text[s..e].to_string());
+            }
+            return true;
+        }
+        if new.param.is_some() && new.param == old.param {
+            // Bound to a parameter whose line carries the change.
             return true;
         }
         let Some(w) = old.written.filter(|w| w.span.file == self.file) else {
@@ -229,7 +243,7 @@ impl Editor<'_> {
         &mut self,
         id: ElementId,
         (a, b): (&T, &T),
-        walk: fn(&mut T, &mut dyn FnMut(&mut Val)),
+        walk: Walk<T>,
         same: bool,
     ) -> bool {
         if !same {
@@ -296,8 +310,7 @@ impl Editor<'_> {
                 continue;
             }
             // A new frame form: the position in place, the orientation after it.
-            let walk: fn(&mut Marker, &mut dyn FnMut(&mut Val)) =
-                |m, f| m.position.iter_mut().for_each(f);
+            let walk: Walk<Marker> = |m, f| m.position.iter_mut().for_each(f);
             let span = splice::member(self.ast, &o.part(a.part).name, &a.name, false);
             let marks = (self.splices.len(), self.changes.len());
             if let (Some((decl, at)), true) = (span, self.fields(id, (a, b), walk, true)) {
@@ -320,8 +333,7 @@ impl Editor<'_> {
             if a.name != b.name || a.part != b.part {
                 return Err(self.unsupported(Some(id), "a renamed or moved landmark"));
             }
-            let walk: fn(&mut Landmark, &mut dyn FnMut(&mut Val)) =
-                |l, f| l.position.iter_mut().for_each(f);
+            let walk: Walk<Landmark> = |l, f| l.position.iter_mut().for_each(f);
             if !self.fields(id, (a, b), walk, same_shape(a, b, walk)) {
                 let line = landmark_line(n, b);
                 self.restate(id, &o.part(a.part).name, &a.name, true, line)?;
@@ -426,103 +438,6 @@ impl Editor<'_> {
         };
         let (s, e) = (item.span.start as usize, item.span.end as usize);
         self.replace_keeping_comments(id, s, e, printed);
-        Ok(())
-    }
-
-    fn why(&self, id: ElementId) -> String {
-        let reason = self.req.reasons.iter().find(|(e, _)| *e == id);
-        match reason {
-            Some((_, why)) => format!("// added by {}: {why}", self.req.tool),
-            None => format!("// added by {}", self.req.tool),
-        }
-    }
-
-    /// New parameters after the last `param` line; new markers and landmarks
-    /// of written parts at the end of their part; new parts and elements at
-    /// the end of the file.
-    fn added(&mut self) -> Result<(), EditError> {
-        let (o, n) = (self.old, self.new);
-        let at = splice::param_insertion(self.ast);
-        for i in o.params.len()..n.params.len() {
-            let id = ElementId::Param(ParamId(i as u32));
-            let text = format!("{}\n{}", self.why(id), param_line(&n.params[i]));
-            match at {
-                Some(at) => self.splice(at, at, format!("\n{text}")),
-                None => self.splice(0, 0, format!("{text}\n")),
-            }
-            self.changes.push(Change::Added { element: id });
-        }
-        let members = (o.markers.len()..n.markers.len())
-            .map(|i| {
-                let mk = &n.markers[i];
-                (
-                    ElementId::Marker(MarkerId(i as u32)),
-                    mk.part,
-                    marker_line(n, mk),
-                )
-            })
-            .chain((o.landmarks.len()..n.landmarks.len()).map(|i| {
-                let l = &n.landmarks[i];
-                (
-                    ElementId::Landmark(LandmarkId(i as u32)),
-                    l.part,
-                    landmark_line(n, l),
-                )
-            }));
-        for (id, part, line) in members.collect::<Vec<_>>() {
-            if part.index() >= o.parts.len() {
-                continue; // printed with its new part
-            }
-            let Some((item, _)) = splice::part(self.ast, &o.part(part).name) else {
-                return Err(self.unsupported(
-                    Some(ElementId::Part(part)),
-                    "a part not written in this file",
-                ));
-            };
-            let close = splice::line_start(self.text, item.span.end as usize - 1);
-            let text = format!("    {}\n    {line}\n", self.why(id));
-            self.splice(close, close, text);
-            self.changes.push(Change::Added { element: id });
-        }
-        let end = self.text.len();
-        let mut tail = String::new();
-        if !self.text.ends_with('\n') {
-            tail.push('\n');
-        }
-        let blocks = (o.parts.len()..n.parts.len())
-            .map(|i| ElementId::Part(PartId(i as u32)))
-            .chain((o.joints.len()..n.joints.len()).map(|i| ElementId::Joint(JointId(i as u32))))
-            .chain(
-                (o.bushings.len()..n.bushings.len())
-                    .map(|i| ElementId::Bushing(BushingId(i as u32))),
-            )
-            .chain(
-                (o.springs.len()..n.springs.len()).map(|i| ElementId::Spring(SpringId(i as u32))),
-            )
-            .chain((o.stops.len()..n.stops.len()).map(|i| ElementId::Stop(StopId(i as u32))))
-            .chain(
-                (o.frictions.len()..n.frictions.len())
-                    .map(|i| ElementId::Friction(FrictionId(i as u32))),
-            )
-            .chain((o.wheels.len()..n.wheels.len()).map(|i| ElementId::Wheel(WheelId(i as u32))));
-        for id in blocks.collect::<Vec<_>>() {
-            let printed = match id {
-                ElementId::Part(p) => Some(part_block(n, p)),
-                _ => element(n, id),
-            };
-            let Some(printed) = printed else {
-                return Err(EditError::Unsupported {
-                    element: Some((n.describe(id), None)),
-                    what: "a new element of a kind the printer cannot write yet".into(),
-                });
-            };
-            tail.push_str(&format!("\n{}\n{printed}", self.why(id)));
-            self.changes.push(Change::Added { element: id });
-        }
-        if tail.trim().is_empty() {
-            return Ok(());
-        }
-        self.splice(end, end, tail);
         Ok(())
     }
 }

@@ -217,3 +217,24 @@ fn removing_an_element_is_refused_with_a_diagnostic() {
     let d = edit(&old, &new).unwrap_err().to_diagnostic();
     assert_eq!(d.code, "E1201");
 }
+
+#[test]
+fn refusals_render_with_the_place_in_the_file() {
+    let (sources, c) = crate::check::check_str("edits.axle", SRC);
+    let old = c.model.expect("checks");
+    let mut new = old.clone();
+    // kt_radial written once, asked to hold two values.
+    let AxisLaw::Linear { k, .. } = &mut new.bushings[0].rotational[1] else {
+        panic!()
+    };
+    k.value *= 2.0;
+    let conflict = edit(&old, &new).unwrap_err().to_diagnostic();
+    let mut removed = old.clone();
+    removed.springs.clear();
+    let unsupported = edit(&old, &removed).unwrap_err().to_diagnostic();
+    let text: String = [conflict, unsupported]
+        .iter()
+        .map(|d| crate::diagnostic::render::to_string(&sources, d))
+        .collect();
+    insta::assert_snapshot!(text);
+}
