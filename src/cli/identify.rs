@@ -177,10 +177,14 @@ pub fn run(a: &IdentifyArgs) -> Exit {
     // Unknowns, optionally all stiffnesses started at one value.
     let unknowns = match identify::select_unknowns(&model, &a.unknown) {
         Ok(u) => u,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return Exit::Input;
-        }
+        Err(e) => match e.diagnostic {
+            // A bad `--unknown` address: the diagnostic every command gives.
+            Some(d) => return fail(&sources, *d),
+            None => {
+                eprintln!("error: {e}");
+                return Exit::Input;
+            }
+        },
     };
     if let Some(v) = a.initial {
         if !(v > 0.0 && v.is_finite()) {

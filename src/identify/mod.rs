@@ -57,6 +57,9 @@ impl Method {
 pub struct IdentifyError {
     pub message: String,
     pub elements: Vec<ElementId>,
+    /// The full diagnostic, when the error is one the user can fix in the
+    /// command (a bad `--unknown` address).
+    pub diagnostic: Option<Box<crate::diagnostic::Diagnostic>>,
 }
 
 impl IdentifyError {
@@ -64,6 +67,16 @@ impl IdentifyError {
         IdentifyError {
             message: message.into(),
             elements,
+            diagnostic: None,
+        }
+    }
+
+    /// An error that is a diagnostic (its message is the diagnostic's).
+    pub fn address(d: crate::diagnostic::Diagnostic) -> IdentifyError {
+        IdentifyError {
+            message: d.message.clone(),
+            elements: Vec::new(),
+            diagnostic: Some(Box::new(d)),
         }
     }
 }

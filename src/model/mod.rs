@@ -4,6 +4,8 @@
 //! [`origin::Origins`] maps elements back to source.
 
 pub mod address;
+mod address_error;
+mod address_parse;
 pub mod elements;
 pub mod id;
 pub mod joint;
@@ -11,6 +13,7 @@ pub mod law;
 pub mod load;
 pub mod origin;
 pub mod param;
+pub mod schema;
 
 pub use elements::*;
 pub use id::*;
@@ -214,7 +217,12 @@ impl Model {
             l.position.iter_mut().for_each(&mut f);
         }
         for b in &mut self.bushings {
-            for l in b.translational.iter_mut().chain(b.rotational.iter_mut()) {
+            for l in b
+                .translational
+                .stored_mut()
+                .into_iter()
+                .chain(b.rotational.stored_mut())
+            {
                 law(l, &mut f);
             }
             for v in b
