@@ -171,7 +171,7 @@ fn lcf_height_mode_writes_the_solved_wheel_centre_heights() {
         .find(|(n, _)| n == "mcpherson")
         .expect("mcpherson");
     let set = load_set(&m, Some("thesis_table_5_1")).expect("set");
-    let h = axle::emit::heights::centre_heights(&m, set).expect("solves");
+    let h = axle::kc::heights::centre_heights(&m, set).expect("solves");
     let text = emit_lcf_as(&m, set, &Vertical::CentreHeight(h.clone())).expect("lcf");
     assert!(
         text.contains("VERTICAL_MODE  =  'wheel_center_height'"),

@@ -4,7 +4,8 @@
 
 use axle::geom::{Mat3, Vec3, frame_from_z_x};
 use axle::model::*;
-use axle::statics::{self, Problem, State, StaticsErrorKind, report::case_report};
+use axle::output::report::case_report;
+use axle::statics::{self, Problem, State, StaticsErrorKind};
 use axle::units::DEG;
 use serde_json::Value;
 
@@ -762,7 +763,7 @@ fn bushings_beyond_fifteen_degrees_are_named() {
         &State::design(&m.model),
     )
     .expect("solve");
-    let w = statics::report::angle_warnings(&m.model, &eq.state);
+    let w = axle::output::report::angle_warnings(&m.model, &eq.state);
     // Reference case c1 of table 5.1: A's az is -18.67°, every other angle within 15°.
     assert_eq!(w.len(), 1, "{w:?}");
     assert_eq!((w[0].name.as_str(), w[0].angle), ("A", "az"));

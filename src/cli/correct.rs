@@ -32,10 +32,11 @@ pub struct Args {
 
 pub fn run(a: &Args) -> Exit {
     let mut sources = SourceMap::new();
-    let Some(text) = super::read(&a.file) else {
-        return Exit::Io;
+    let text = match super::read(&a.file) {
+        Ok(t) => t,
+        Err(e) => return e,
     };
-    let id = sources.add(a.file.display().to_string(), text);
+    let id = sources.add(super::read::shown(&a.file), text);
     let checked = crate::check::check_file(&mut sources, id);
     render::to_stderr(&sources, &checked.problems.list);
     let Some(model) = checked.model else {
@@ -89,27 +90,28 @@ pub fn run(a: &Args) -> Exit {
             return Exit::Input;
         }
     };
-    println!(
-        "corrected against step {} under case `{}` ({} passes)",
-        measured.step, a.case, c.iterations
-    );
-    println!("{:<12} {:>10}", "element", "moved (mm)");
-    for (e, d) in &c.moved {
-        println!("{:<12} {d:>10.3}", model.describe(*e));
-    }
-    for (e, why) in &c.skipped {
-        println!("{:<12} not corrected: {why}", model.describe(*e));
-    }
-    println!(
-        "largest landmark misfit of the corrected equilibrium: {:.3} mm",
-        c.misfit
-    );
+    // The output model is written first: the table on stdout is the last word.
     if let Some(out) = &a.output {
         let text = crate::fmt::print_model(&crate::locate::correct::redesign(&c.model, &c.state));
-        if let Err(e) = std::fs::write(out, text) {
-            eprintln!("error: cannot write {}: {e}", out.display());
-            return Exit::Io;
+        let code = super::input::emit(Some(out), &text);
+        if code != Exit::Ok {
+            return code;
         }
     }
-    Exit::Ok
+    let mut o = format!(
+        "corrected against step {} under case `{}` ({} passes)\n",
+        measured.step, a.case, c.iterations
+    );
+    o += &format!("{:<12} {:>10}\n", "element", "moved (mm)");
+    for (e, d) in &c.moved {
+        o += &format!("{:<12} {d:>10.3}\n", model.describe(*e));
+    }
+    for (e, why) in &c.skipped {
+        o += &format!("{:<12} not corrected: {why}\n", model.describe(*e));
+    }
+    o += &format!(
+        "largest landmark misfit of the corrected equilibrium: {:.3} mm\n",
+        c.misfit
+    );
+    super::input::emit(None, &o)
 }

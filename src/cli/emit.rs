@@ -72,7 +72,7 @@ pub fn run(
                 let prefix = adm.trim_end_matches(".adm").to_string();
                 emit::emit_acf(model, s, &adm, &prefix)
             } else if vertical == VerticalMode::Height {
-                emit::heights::centre_heights(model, s)
+                crate::kc::heights::centre_heights(model, s)
                     .and_then(|h| emit::emit_lcf_as(model, s, &emit::Vertical::CentreHeight(h)))
             } else {
                 emit::emit_lcf(model, s)

@@ -82,16 +82,17 @@ fn fail(sources: &SourceMap, d: crate::diagnostic::Diagnostic) -> Exit {
 
 /// Reads a data file into the source map (so diagnostics can quote it).
 fn data(sources: &mut SourceMap, path: &Path) -> Option<crate::span::FileId> {
-    let text = super::read(path)?;
-    Some(sources.add(path.display().to_string(), text))
+    let text = super::read(path).ok()?;
+    Some(sources.add(super::read::shown(path), text))
 }
 
 pub fn run(a: &IdentifyArgs) -> Exit {
     let mut sources = SourceMap::new();
-    let Some(text) = super::read(&a.file) else {
-        return Exit::Io;
+    let text = match super::read(&a.file) {
+        Ok(t) => t,
+        Err(e) => return e,
     };
-    let file = sources.add(a.file.display().to_string(), text);
+    let file = sources.add(super::read::shown(&a.file), text);
     let checked = crate::check::check_file(&mut sources, file);
     let errors = checked.problems.has_errors();
     render::to_stderr(&sources, &checked.problems.list);
@@ -243,9 +244,9 @@ pub fn run(a: &IdentifyArgs) -> Exit {
     r.notes.extend(notes);
     if let Some(out) = &a.output {
         let text = crate::fmt::print_model(&r.apply(&model));
-        if let Err(e) = std::fs::write(out, text) {
-            eprintln!("error: cannot write {}: {e}", out.display());
-            return Exit::Io;
+        let code = super::input::emit(Some(out), &text);
+        if code != Exit::Ok {
+            return code;
         }
     }
     if let Some(dir) = &a.report {
@@ -254,14 +255,17 @@ pub fn run(a: &IdentifyArgs) -> Exit {
             Err(e) => return e,
         }
     }
-    match a.format {
-        IdentifyFormat::Json => println!(
-            "{}",
-            serde_json::to_string_pretty(&to_json(&r)).unwrap_or_default()
-        ),
-        IdentifyFormat::Table => print!("{}", to_table(&r)),
-    }
-    Exit::Ok
+    let text = match a.format {
+        IdentifyFormat::Json => match serde_json::to_string_pretty(&to_json(&r)) {
+            Ok(s) => format!("{s}\n"),
+            Err(e) => {
+                eprintln!("error: cannot write the results as JSON: {e}");
+                return Exit::Io;
+            }
+        },
+        IdentifyFormat::Table => to_table(&r),
+    };
+    super::input::emit(None, &text)
 }
 
 /// Writes `toe_camber_<direction>.svg` per swept load direction into `dir`;
@@ -293,8 +297,7 @@ fn write_report(
             Exit::Io
         })?;
         let path = dir.join(format!("toe_camber_{}.svg", c.name));
-        if let Err(e) = std::fs::write(&path, text) {
-            eprintln!("error: cannot write {}: {e}", path.display());
+        if super::input::emit(Some(&path), &text) != Exit::Ok {
             return Err(Exit::Io);
         }
         notes.push(format!(

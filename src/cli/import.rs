@@ -10,10 +10,11 @@ pub enum ImportKind {
 }
 
 pub fn run(file: &Path, out: Option<&PathBuf>) -> Exit {
-    let Some(text) = super::read(file) else {
-        return Exit::Io;
+    let text = match super::read(file) {
+        Ok(t) => t,
+        Err(e) => return e,
     };
-    let imported = crate::import::import_adm(&file.display().to_string(), &text);
+    let imported = crate::import::import_adm(&super::read::shown(file), &text);
     render::to_stderr(&imported.sources, &imported.problems);
     match imported.source {
         Some(src)

@@ -23,9 +23,9 @@ impl Loaded {
 
 /// Reads and checks a model; prints its warnings; `Err` carries the exit status.
 pub fn load_model(path: &Path) -> Result<Loaded, Exit> {
-    let text = super::read(path).ok_or(Exit::Io)?;
+    let text = super::read(path)?;
     let mut sources = SourceMap::new();
-    let id = sources.add(path.display().to_string(), text);
+    let id = sources.add(super::read::shown(path), text);
     let checked = crate::check::check_file(&mut sources, id);
     render::to_stderr(&sources, &checked.problems.list);
     match checked.model {
@@ -71,25 +71,9 @@ pub fn pick_set(loaded: &Loaded, name: Option<&str>) -> Result<LoadSetId, Diagno
     }
 }
 
-/// Writes results to `path`, or stdout.
+/// Writes results to `path` (`-` or none: stdout) through the one writer.
 pub fn emit(path: Option<&Path>, text: &str) -> Exit {
-    match path {
-        Some(p) => match std::fs::write(p, text) {
-            Ok(()) => Exit::Ok,
-            Err(e) => {
-                eprintln!("error: cannot write {}: {e}", p.display());
-                Exit::Io
-            }
-        },
-        None => {
-            use std::io::Write;
-            let mut out = std::io::stdout().lock();
-            // A closed pipe (`axle solve … | head`) is not an error of the input.
-            let _ = out.write_all(text.as_bytes());
-            let _ = out.flush();
-            Exit::Ok
-        }
-    }
+    super::write::emit(&super::write::Target::from_option(path), text)
 }
 
 /// Solves a load set in order, each case from the previous state; a failure

@@ -7,9 +7,10 @@ use crate::kc::{KcRow, kc_rows};
 use crate::model::{Component, LoadForm, LoadSet, LoadSetId, Model};
 use crate::output::number::round_json;
 use crate::output::plot::{Sweep, svg};
+use crate::output::report::angle_warnings;
+use crate::output::warning;
 use crate::output::{columns, kc_table};
-use crate::statics::report::angle_warnings;
-use crate::statics::{Equilibrium, Problem, compliance, warning};
+use crate::statics::{Equilibrium, Problem, compliance};
 use serde_json::{Value, json};
 use std::path::PathBuf;
 

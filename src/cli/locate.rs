@@ -41,10 +41,11 @@ pub struct Args {
 
 pub fn run(a: &Args) -> Exit {
     let mut sources = SourceMap::new();
-    let Some(text) = super::read(&a.file) else {
-        return Exit::Io;
+    let text = match super::read(&a.file) {
+        Ok(t) => t,
+        Err(e) => return e,
     };
-    let id = sources.add(a.file.display().to_string(), text);
+    let id = sources.add(super::read::shown(&a.file), text);
     let checked = crate::check::check_file(&mut sources, id);
     render::to_stderr(&sources, &checked.problems.list);
     let Some(model) = checked.model else {
@@ -72,24 +73,24 @@ pub fn run(a: &Args) -> Exit {
     };
     let located = locate_all(&model, &steps, &opt);
     let rep = report(&model, &steps, &located, reference);
-    match a.format {
+    if let Some(out) = &a.output {
+        let text = crate::fmt::print_model(&apply(&model, &located));
+        let code = super::input::emit(Some(out), &text);
+        if code != Exit::Ok {
+            return code;
+        }
+    }
+    let text = match a.format {
         super::OutFormat::Json => match serde_json::to_string_pretty(&rep) {
-            Ok(s) => println!("{s}"),
+            Ok(s) => format!("{s}\n"),
             Err(e) => {
-                eprintln!("error: {e}");
+                eprintln!("error: cannot write the results as JSON: {e}");
                 return Exit::Io;
             }
         },
-        _ => print!("{}", table(&rep)),
-    }
-    if let Some(out) = &a.output {
-        let text = crate::fmt::print_model(&apply(&model, &located));
-        if let Err(e) = std::fs::write(out, text) {
-            eprintln!("error: cannot write {}: {e}", out.display());
-            return Exit::Io;
-        }
-    }
-    Exit::Ok
+        _ => table(&rep),
+    };
+    super::input::emit(None, &text)
 }
 
 fn table(r: &Report) -> String {
@@ -195,8 +196,8 @@ pub fn load_landmarks(
     };
     let (csv, iges): (Vec<&PathBuf>, Vec<&PathBuf>) = paths.iter().partition(|p| !is_iges(p));
     for path in csv {
-        let text = super::read(path).ok_or(Exit::Io)?;
-        let id = sources.add(path.display().to_string(), text);
+        let text = super::read(path)?;
+        let id = sources.add(super::read::shown(path), text);
         match crate::data::landmarks::read(sources.text(id), model) {
             Ok((obs, skipped)) => {
                 warnings.extend(skipped.iter().map(|s| skipped_warning(id, s)));
@@ -211,9 +212,11 @@ pub fn load_landmarks(
     }
     let first = out.observations.iter().map(|o| o.step).max().unwrap_or(0) + 1;
     for (k, path) in iges.into_iter().enumerate() {
-        let bytes = std::fs::read(path).map_err(|e| {
-            eprintln!("error: cannot read {}: {e}", path.display());
-            Exit::Io
+        let bytes = super::read::read_bytes(path).map_err(|e| {
+            let mut s = SourceMap::new();
+            let d = e.to_diagnostic(&mut s, path);
+            render::to_stderr(&s, &[d]);
+            e.exit()
         })?;
         let text = crate::data::iges::ascii_columns(&bytes);
         let id = sources.add(path.display().to_string(), text);

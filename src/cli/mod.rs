@@ -10,11 +10,13 @@ pub mod import;
 pub mod input;
 pub mod kc;
 pub mod locate;
+pub mod read;
 pub mod solve;
 pub mod trim;
+pub mod write;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Parser)]
 #[command(
@@ -134,15 +136,68 @@ pub enum Cmd {
     Identify(identify::IdentifyArgs),
 }
 
-/// Exit status: 0 success, 1 the input is wrong, 2 usage or I/O error.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Exit status: 0 success, 1 the input is wrong, 2 usage or I/O error (the
+/// order is severity: a run's status is the worst of its steps).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Exit {
     Ok = 0,
     Input = 1,
     Io = 2,
 }
 
+impl Cmd {
+    /// The files the command line names as inputs and as outputs.
+    fn files(&self) -> (Vec<&Path>, Vec<&Path>) {
+        match self {
+            Cmd::Check { .. } | Cmd::Fmt { .. } => (vec![], vec![]),
+            Cmd::Solve {
+                file,
+                loads,
+                output,
+                ..
+            } => ([vec![file.as_path()], opt(loads)].concat(), opt(output)),
+            Cmd::Kc {
+                file, plot, output, ..
+            } => (vec![file], [opt(plot), opt(output)].concat()),
+            Cmd::Emit { file, output, .. } | Cmd::Import { file, output, .. } => {
+                (vec![file], opt(output))
+            }
+            Cmd::Locate(a) => (
+                [vec![a.file.as_path()], all(&a.landmarks)].concat(),
+                opt(&a.output),
+            ),
+            Cmd::Correct(a) => (
+                [vec![a.file.as_path()], all(&a.landmarks)].concat(),
+                opt(&a.output),
+            ),
+            Cmd::Identify(a) => (
+                [
+                    vec![a.file.as_path()],
+                    all(&a.landmarks),
+                    opt(&a.kc),
+                    opt(&a.loads),
+                ]
+                .concat(),
+                [opt(&a.output), opt(&a.report)].concat(),
+            ),
+        }
+    }
+}
+
+fn opt(o: &Option<PathBuf>) -> Vec<&Path> {
+    o.iter().map(PathBuf::as_path).collect()
+}
+
+fn all(v: &[PathBuf]) -> Vec<&Path> {
+    v.iter().map(PathBuf::as_path).collect()
+}
+
 pub fn run(cli: Cli) -> Exit {
+    let (inputs, outputs) = cli.cmd.files();
+    if let Err(e) = write::refuse_overlap(&inputs, &outputs) {
+        eprintln!("error: {e}");
+        return Exit::Io;
+    }
     match cli.cmd {
         Cmd::Check { files, format } => check::run(&files, format),
         Cmd::Fmt { files, check } => fmt::run(&files, check),
@@ -198,13 +253,8 @@ pub fn run(cli: Cli) -> Exit {
     }
 }
 
-/// Reads a file, printing an I/O error.
-pub fn read(path: &std::path::Path) -> Option<String> {
-    match std::fs::read_to_string(path) {
-        Ok(t) => Some(t),
-        Err(e) => {
-            eprintln!("error: cannot read {}: {e}", path.display());
-            None
-        }
-    }
+/// Reads a text file (`-` is stdin), printing a failure as a diagnostic;
+/// `Err` is the exit status (2 unreadable, 1 not UTF-8).
+pub fn read(path: &std::path::Path) -> Result<String, Exit> {
+    read::read(path)
 }

@@ -5,9 +5,10 @@ use super::{Exit, OutFormat};
 use crate::diagnostic::Diagnostic;
 use crate::kc::kc_rows;
 use crate::model::LoadSetId;
+use crate::output::report::{CaseReport, angle_warnings, case_report};
+use crate::output::warning;
 use crate::output::{kc_table, number::round_json, parts_csv, solve_table};
-use crate::statics::report::{CaseReport, angle_warnings, case_report};
-use crate::statics::{Problem, warning};
+use crate::statics::Problem;
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -34,11 +35,11 @@ fn load_set(loaded: &mut Loaded, args: &Args) -> Result<LoadSetId, Exit> {
             Exit::Input
         });
     };
-    let text = super::read(path).ok_or(Exit::Io)?;
+    let text = super::read(path)?;
     let name = path
         .file_stem()
         .map_or("loads".into(), |s| s.to_string_lossy().into_owned());
-    let file = loaded.sources.add(path.display().to_string(), text.clone());
+    let file = loaded.sources.add(super::read::shown(path), text.clone());
     match crate::data::loads::read(&text, &name, &loaded.model) {
         Ok(set) => {
             loaded.model.load_sets.push(set);

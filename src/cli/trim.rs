@@ -6,10 +6,10 @@ use super::input::Loaded;
 use super::solve::TrimArgs;
 use crate::diagnostic::Diagnostic;
 use crate::diagnostic::suggest::did_you_mean;
+use crate::kc::trim::trim;
 use crate::model::address::Address;
 use crate::model::{LoadSetId, MarkerId};
 use crate::output::number::round;
-use crate::statics::trim::trim;
 use crate::units::to_boundary;
 use serde_json::{Value, json};
 

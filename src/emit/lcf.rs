@@ -63,7 +63,7 @@ pub enum Vertical {
     /// The wheels' `fz` loads, N.
     Force,
     /// Per case, per wheel: the wheel-centre z at axle's equilibrium, mm
-    /// ([`super::heights::centre_heights`]).
+    /// ([`crate::kc::heights::centre_heights`]).
     CentreHeight(Vec<Vec<f64>>),
 }
 

@@ -7,7 +7,6 @@ pub mod acf;
 pub mod adm;
 pub mod error;
 pub mod forces;
-pub mod heights;
 pub mod lcf;
 pub mod plan;
 pub mod writer;

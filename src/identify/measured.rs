@@ -124,6 +124,7 @@ impl Measured {
                 .collect(),
             loads: Vec::new(),
             lambda: Vec::new(),
+            slip: Vec::new(),
         }
     }
 }

@@ -7,4 +7,6 @@ pub mod kc_table;
 pub mod number;
 pub mod parts_csv;
 pub mod plot;
+pub mod report;
 pub mod solve_table;
+pub mod warning;

@@ -3,7 +3,7 @@
 
 use super::number::csv as num;
 use crate::geom::Mat3;
-use crate::statics::report::CaseReport;
+use crate::output::report::CaseReport;
 
 pub const COLUMNS: &str = "step,loadcase,part,x,y,z,rx_deg,ry_deg,rz_deg";
 

@@ -3,7 +3,7 @@
 //! compliance comes from), springs, and the part displacements.
 
 use super::columns::{Cell, Col, col, render};
-use crate::statics::report::CaseReport;
+use crate::output::report::CaseReport;
 
 const WHEEL: [Col; 8] = [
     col("wheel", "", 0),

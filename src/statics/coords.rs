@@ -7,7 +7,7 @@
 //! Jacobian is taken at zero increment and no parameterisation is singular.
 
 use crate::geom::{Mat3, Vec3, skew};
-use crate::model::{MarkerId, Model, PartId, PointLoad};
+use crate::model::{FrictionId, MarkerId, Model, PartId, PointLoad};
 use nalgebra::DVector;
 
 /// Which coordinate block (6 coordinates) each part owns; ground owns none.
@@ -36,9 +36,10 @@ impl Layout {
     }
 }
 
-/// A configuration of the model: the pose of every part, and the loads it was
-/// last brought into equilibrium with (the start of the next load sub-step).
-/// Path-dependent element states (friction, hysteresis) would live here too.
+/// A configuration of the model: the pose of every part, the loads it was
+/// last brought into equilibrium with (the start of the next load sub-step),
+/// and the history of path-dependent elements (friction slip offsets),
+/// committed after every converged step by [`super::friction::commit`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct State {
     /// Origin and rotation of each part frame (indexed like `Model::parts`), global.
@@ -47,6 +48,10 @@ pub struct State {
     pub(crate) loads: Vec<PointLoad>,
     /// Multipliers of the independent constraint equations (warm start of the next step).
     pub(crate) lambda: Vec<f64>,
+    /// Slip offset `s_p` of each friction element (indexed like
+    /// `Model::frictions`; mm for a slide, rad for a rotation): the history a
+    /// trial state is evaluated against, changed only when a step is accepted.
+    pub(crate) slip: Vec<f64>,
 }
 
 impl State {
@@ -56,6 +61,19 @@ impl State {
             poses: vec![(Vec3::zeros(), Mat3::identity()); model.parts.len()],
             loads: Vec::new(),
             lambda: Vec::new(),
+            slip: super::friction::design_slip(model),
+        }
+    }
+
+    /// The committed slip offset of a friction element (mm or rad); the design
+    /// value when the state does not carry it.
+    pub fn slip_offset(&self, model: &Model, f: FrictionId) -> f64 {
+        match self.slip.get(f.index()) {
+            Some(&s) => s,
+            None => super::friction::design_slip(model)
+                .get(f.index())
+                .copied()
+                .unwrap_or(0.0),
         }
     }
 

@@ -1,14 +1,15 @@
 //! Force elements as wrenches with analytic derivatives: bushings (linear,
 //! cubic, tabulated, offsets, preloads; projected angles), springs (linear,
-//! tabulated), stops (compression, rebound) and point loads (`conventions.md`).
+//! tabulated), stops (compression, rebound) and point loads (`conventions.md`);
+//! friction elements are evaluated by [`super::friction`].
 
 use super::coords::{Layout, State, marker_kin};
 use super::error::{StaticsError, StaticsErrorKind};
 use super::wrench::{M3x12, Wrench, blocks, d_point_i, d_point_j};
 use crate::geom::{Mat3, Vec3, projected_angles, skew};
 use crate::model::{
-    Bushing, BushingId, ElementId, Model, PointLoad, Spring, SpringId, SpringLaw, Stop, StopId,
-    StopKind, values,
+    Bushing, BushingId, ElementId, FrictionId, Model, PointLoad, Spring, SpringId, SpringLaw, Stop,
+    StopId, StopKind, values,
 };
 
 /// A bushing's state: deformation, force and torque on I in J axes, and its wrench.
@@ -29,7 +30,7 @@ const ZERO: Mat3 = Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
 
 /// Rows `d(angle)/dw` of the projected angles for a relative rotation increment
 /// `w` in J axes, with `dQ = w~ Q`. A row is zero where its atan2 is undefined.
-fn angle_rates(q: &Mat3) -> Mat3 {
+pub(super) fn angle_rates(q: &Mat3) -> Mat3 {
     // d(column c of Q) = w × q_c = -q_c~ w; each angle is atan2(y, x) of two entries.
     let row = |c: usize, r: usize| -> nalgebra::RowVector3<f64> {
         let qc: Vec3 = q.column(c).into();
@@ -188,7 +189,8 @@ pub fn point_load(model: &Model, layout: &Layout, state: &State, l: &PointLoad) 
     Some(w)
 }
 
-/// Every force-element wrench of the model (bushings, springs, stops) at a state.
+/// Every force-element wrench of the model (bushings, springs, stops,
+/// frictions against the state's committed slip) at a state.
 pub fn element_wrenches(
     model: &Model,
     layout: &Layout,
@@ -221,6 +223,11 @@ pub fn for_each_element(
     for (k, s) in model.stops.iter().enumerate() {
         let id = StopId(k as u32);
         f(ElementId::Stop(id), &stop(model, layout, state, id, s)?.2);
+    }
+    for k in 0..model.frictions.len() {
+        let id = FrictionId(k as u32);
+        let e = super::friction::evaluate(model, layout, state, id);
+        f(ElementId::Friction(id), &e.wrench);
     }
     Ok(())
 }

@@ -5,23 +5,21 @@
 //! Layout: [`coords`] (6 coordinates per moving part, rotation increments by
 //! Rodrigues), [`wrench`] (the one generalised-force shape every element reduces
 //! to), [`constraint`] (joint primitives), [`forces`] (bushings, springs, stops,
-//! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`report`].
+//! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`path`].
 
 pub mod compliance;
 pub mod constraint;
 pub mod coords;
 pub mod error;
 pub mod forces;
+pub mod friction;
 mod linear;
 pub mod mobility;
 pub mod newton;
 pub mod path;
 pub mod redundancy;
-pub mod report;
 #[cfg(test)]
 mod testkit;
-pub mod trim;
-pub mod warning;
 pub mod wrench;
 
 pub use compliance::compliance;
@@ -262,6 +260,8 @@ pub(crate) fn solve_reusing(
                 steps += 1;
                 state = trial;
                 state.loads = l;
+                // An accepted (sub-)step: its friction slip becomes history.
+                friction::commit(model, &problem.layout, &mut state);
                 s = target;
                 ds *= 2.0;
             }
@@ -395,7 +395,13 @@ fn not_converged(p: &Problem, st: &State, loads: &[PointLoad], force: f64) -> St
         if ratio < 1e-6 {
             return StaticsError::new(
                 StaticsErrorKind::NotConverged,
-                vec![ElementId::Part(motion.part)],
+                std::iter::once(ElementId::Part(motion.part))
+                    .chain(
+                        friction::near_limit(&p.model, &p.layout, st)
+                            .into_iter()
+                            .map(ElementId::Friction),
+                    )
+                    .collect(),
                 format!(
                     "{detail}: the {} is nearly unrestrained (stiffness ratio {ratio:.1e}) (residual {ef:.2e} of the force scale, {ec:.2e} of the length)",
                     motion.words
@@ -424,6 +430,10 @@ fn not_converged(p: &Problem, st: &State, loads: &[PointLoad], force: f64) -> St
             elements.push(id);
         }
     }
+    // A friction at its limit switches between stick and slip from one
+    // iteration to the next, the usual way a path with friction fails: name it.
+    let slipping = friction::near_limit(&p.model, &p.layout, st);
+    elements.extend(slipping.iter().map(|&f| ElementId::Friction(f)));
     StaticsError::new(
         StaticsErrorKind::NotConverged,
         elements,

@@ -284,6 +284,7 @@ fn copy_state(to: &mut State, from: &State) {
     to.poses.clone_from(&from.poses);
     to.loads.clone_from(&from.loads);
     to.lambda.clone_from(&from.lambda);
+    to.slip.clone_from(&from.slip);
 }
 
 /// Newton from `st` to equilibrium under `loads`; returns the iterations used.

@@ -1,11 +1,11 @@
 //! The per-case report of `solve --format json` (`interfaces.md`), and warnings
 //! about bushings driven outside the range of their projected angles.
 
-use super::coords::Layout;
-use super::forces::{bushing, spring};
-use super::{Equilibrium, State};
 use crate::kc::{WheelQuantities, wheel_quantities};
 use crate::model::{BushingId, ElementId, Model, SpringId};
+use crate::statics::coords::Layout;
+use crate::statics::forces::{bushing, spring};
+use crate::statics::{Equilibrium, State};
 use serde::Serialize;
 use std::collections::BTreeMap;
 

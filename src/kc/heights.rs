@@ -3,7 +3,7 @@
 //! from the previous equilibrium, as `axle solve` does) and the rig then drives
 //! the wheel centres to those heights instead of applying the vertical forces.
 
-use super::error::EmitError;
+use crate::emit::EmitError;
 use crate::model::{LoadSetId, Model};
 use crate::statics::{Problem, State, solve};
 

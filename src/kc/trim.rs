@@ -4,10 +4,10 @@
 //! once the sign of the height error changes (then bisection when a secant step
 //! would leave it), so a badly scaled first guess cannot run away.
 
-use super::error::{StaticsError, StaticsErrorKind};
-use super::{Problem, State, solve};
 use crate::model::address::Address;
 use crate::model::{MarkerId, Model, PointLoad};
+use crate::statics::{Problem, State, solve};
+use crate::statics::{StaticsError, StaticsErrorKind};
 
 /// Height error below which the trim has converged, mm.
 pub const TOLERANCE_MM: f64 = 1e-8;
