@@ -13,6 +13,7 @@ pub mod check;
 pub mod cli;
 pub mod data;
 pub mod diagnostic;
+pub mod edit;
 pub mod emit;
 pub mod fmt;
 pub mod geom;

@@ -92,7 +92,7 @@ impl Checker {
                 let span = props.get(&key).map_or(e.name.span, |p| p.value.span());
                 self.problems.push(
                     Diagnostic::error(
-                        "E0413",
+                        "E0415",
                         format!("`{key}` differs along x and y of an axisymmetric bushing"),
                     )
                     .primary(span, "x and y cubic terms differ")

@@ -11,6 +11,7 @@ mod loads;
 mod mobility;
 mod parts;
 mod props;
+pub mod validate;
 
 use crate::diagnostic::{Diagnostic, Problems};
 use crate::model::{ElementId, LoadSetId, Model, Param, ParamId};

@@ -161,7 +161,7 @@ pub fn print_model(m: &Model) -> String {
         }
         o.push_str("}\n");
     }
-    for j in &m.joints {
+    for (_, j) in m.active_joints() {
         let _ = writeln!(o, "\njoint {} {} {{", j.name, j.kind.keyword());
         let _ = writeln!(
             o,
@@ -297,11 +297,11 @@ fn bushing(o: &mut String, m: &Model, b: &Bushing) {
             AxisLaw::Linear { k3, .. } => *k3,
             AxisLaw::Table(_) => Val::ZERO,
         });
-        if let Some(cubic_id) = law.cubic {
-            if cubic.iter().any(|v| v.value != 0.0 || v.param.is_some()) {
-                let c = schema::BUSHING.field(cubic_id);
-                let _ = writeln!(o, "    {} {}", c.name, vec3(m, &cubic, c.dim));
-            }
+        if let Some(cubic_id) = law.cubic
+            && cubic.iter().any(|v| v.value != 0.0 || v.param.is_some())
+        {
+            let c = schema::BUSHING.field(cubic_id);
+            let _ = writeln!(o, "    {} {}", c.name, vec3(m, &cubic, c.dim));
         }
     }
     for (id, v) in [

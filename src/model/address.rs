@@ -319,17 +319,17 @@ impl Address {
         if let ElementId::Param(p) = self.element {
             return model.set_param(p, value);
         }
-        if self.field == FieldId::Position {
-            if let Some((i, j)) = self.point_markers(model) {
-                for m in [i, j] {
-                    let at = Address {
-                        element: ElementId::Marker(m),
-                        ..self
-                    };
-                    at.set(model, value);
-                }
-                return;
+        if self.field == FieldId::Position
+            && let Some((i, j)) = self.point_markers(model)
+        {
+            for m in [i, j] {
+                let at = Address {
+                    element: ElementId::Marker(m),
+                    ..self
+                };
+                at.set(model, value);
             }
+            return;
         }
         match self.binding(model) {
             Some(p) => model.set_param(p, value),

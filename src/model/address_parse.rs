@@ -71,10 +71,11 @@ fn element_fields(model: &Model, element: ElementId) -> Vec<(String, Result<Addr
     }
     // A field whose law is a table (or absent) has no number.
     for (_, r) in &mut out {
-        if let Ok(a) = r {
-            if a.val(model).is_none() && !matches!(a.element, ElementId::Param(_)) {
-                *r = Err(());
-            }
+        if let Ok(a) = r
+            && a.val(model).is_none()
+            && !matches!(a.element, ElementId::Param(_))
+        {
+            *r = Err(());
         }
     }
     out
@@ -216,7 +217,7 @@ impl Address {
         elements.extend(n(model.params.len()).map(|i| ElementId::Param(ParamId(i))));
         elements.extend(n(model.markers.len()).map(|i| ElementId::Marker(MarkerId(i))));
         elements.extend(n(model.landmarks.len()).map(|i| ElementId::Landmark(LandmarkId(i))));
-        elements.extend(n(model.joints.len()).map(|i| ElementId::Joint(JointId(i))));
+        elements.extend(model.active_joints().map(|(id, _)| ElementId::Joint(id)));
         elements.extend(n(model.bushings.len()).map(|i| ElementId::Bushing(BushingId(i))));
         elements.extend(n(model.springs.len()).map(|i| ElementId::Spring(SpringId(i))));
         elements.extend(n(model.stops.len()).map(|i| ElementId::Stop(StopId(i))));

@@ -99,9 +99,26 @@ pub struct Model {
     pub origins: origin::Origins,
     /// Load sets that came from imported modules (not printed back with the model).
     pub imported_load_sets: Vec<LoadSetId>,
+    /// Joints replaced by an edit (e.g. by a bushing): kept in the arena so
+    /// every `JointId` a caller holds stays valid, skipped by every backend.
+    pub retired_joints: std::collections::BTreeSet<JointId>,
 }
 
 impl Model {
+    /// Whether an edit replaced this joint (it then constrains nothing).
+    pub fn is_retired(&self, j: JointId) -> bool {
+        self.retired_joints.contains(&j)
+    }
+
+    /// The joints in force, with their ids (retired ones skipped).
+    pub fn active_joints(&self) -> impl Iterator<Item = (JointId, &Joint)> + '_ {
+        self.joints
+            .iter()
+            .enumerate()
+            .map(|(k, j)| (JointId(k as u32), j))
+            .filter(|(id, _)| !self.is_retired(*id))
+    }
+
     pub fn ground(&self) -> Option<PartId> {
         self.parts
             .iter()
