@@ -212,3 +212,48 @@ fn extreme_powers_and_numbers_never_panic() {
         exercise(&src);
     }
 }
+
+/// The primary label's 1-based line of a diagnostic of `check_str`.
+fn first_line(src: &str, d: &axle::diagnostic::Diagnostic) -> usize {
+    let l = d
+        .labels
+        .iter()
+        .find(|l| l.primary)
+        .expect("a primary label");
+    src[..l.span.start as usize].matches('\n').count() + 1
+}
+
+/// Expressions deep enough to overflow any recursion (on the 2 MB stack of a
+/// test thread) are E0005 on their line, never an abort.
+#[test]
+fn deep_and_long_expressions_are_a_located_diagnostic_not_a_stack_overflow() {
+    let nested = format!("{}1{}", "(".repeat(1600), ")".repeat(1600));
+    let sum = vec!["1"; 20_000].join(" + ");
+    let minus = format!("{}1", "-".repeat(100_000));
+    let product = vec!["2"; 20_000].join(" * ");
+    for value in [nested, sum, minus, product] {
+        let src = format!("ground g {{\n    marker o at ({value}, 0, 0) mm\n}}\n");
+        let (_, checked) = check_str("deep.axle", &src);
+        let d = &checked.problems.list[0];
+        assert_eq!(d.code, "E0005", "{}", d.message);
+        assert_eq!(first_line(&src, d), 2);
+        assert!(axle::fmt::format_source(FileId(0), &src).is_err());
+    }
+}
+
+/// 10 000 parts held by nothing: one E0411 each, and no dense mobility
+/// analysis of a model that is wrong already (its 60 000 x 60 000 matrix
+/// would need 28.8 GB: the allocation aborted the process).
+#[test]
+fn ten_thousand_unconnected_parts_get_one_error_each_and_no_dense_analysis() {
+    let mut src = String::from("ground g {\n    marker o at (0, 0, 0) mm\n}\n");
+    for k in 0..10_000 {
+        src += &format!("part p{k} {{\n    marker o at ({k}, 0, 0) mm\n}}\n");
+    }
+    let (_, checked) = check_str("many.axle", &src);
+    let codes: Vec<&str> = checked.problems.list.iter().map(|d| d.code).collect();
+    assert_eq!(codes.len(), 10_000);
+    assert!(codes.iter().all(|c| *c == "E0411"));
+    let last = checked.problems.list.last().expect("errors");
+    assert_eq!(first_line(&src, last), 4 + 3 * 9_999);
+}

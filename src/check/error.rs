@@ -133,6 +133,34 @@ pub fn bad_number(what: &str, span: Span, why: &str) -> Diagnostic {
     Diagnostic::error("E0204", format!("{what} {why}")).primary(span, why.to_string())
 }
 
+/// Magnitudes (internal units) no suspension comes near: a value beyond them
+/// is a slip of unit or exponent (`305 m` for `305 mm`, `1e200 N`), and would
+/// swamp every tolerance of the solver.
+pub const PLAUSIBLE: &[(Dim, f64, &str)] = &[
+    (Dim::LENGTH, 1e5, "100 m"),
+    (Dim::FORCE, 1e7, "10 MN"),
+    (Dim::TORQUE, 1e10, "10 MN*m"),
+    (Dim::STIFFNESS, 1e12, "1e12 N/mm"),
+    (Dim::ROT_STIFFNESS, 1e15, "1e15 N*mm/rad"),
+];
+
+/// E0214 when `value` of dimension `dim` is beyond [`PLAUSIBLE`].
+pub fn beyond_any_suspension(value: f64, dim: Dim, span: Span) -> Option<Diagnostic> {
+    let (_, limit, shown) = PLAUSIBLE.iter().find(|(d, ..)| *d == dim)?;
+    (value.abs() > *limit).then(|| {
+        let (f, u) = (dim.boundary_factor(), dim.boundary_unit());
+        Diagnostic::error(
+            "E0214",
+            format!(
+                "{:e} {u} is beyond any suspension (more than {shown})",
+                value / f
+            ),
+        )
+        .primary(span, "this value")
+        .hint("check the unit and the exponent")
+    })
+}
+
 pub fn negative_stiffness(element: &str, what: &str, span: Span) -> Diagnostic {
     Diagnostic::error("E0205", format!("negative stiffness in {element}"))
         .primary(span, format!("{what} is negative"))
@@ -204,4 +232,48 @@ pub fn unknown_module<'a>(
         Some(h) => d.hint(h),
         None => d,
     }
+}
+
+pub fn friction_without_axis(
+    name: &str,
+    joint: &str,
+    kind: &str,
+    motion: &str,
+    at: Span,
+    decl: Option<Span>,
+) -> Diagnostic {
+    let allowed = match motion {
+        "slide" => "a cylindrical or translational joint",
+        _ => "a revolute, cylindrical or spherical joint",
+    };
+    let d = Diagnostic::error(
+        "E0412",
+        format!("friction `{name}` needs a {motion} axis, and {kind} joint `{joint}` has none"),
+    )
+    .primary(at, format!("a {kind} joint has no {motion} axis"))
+    .hint(format!(
+        "a {motion} friction acts on {allowed} (the z axis of its J marker)"
+    ));
+    match decl {
+        Some(s) => d.secondary(s, format!("`{joint}` is declared {kind} here")),
+        None => d,
+    }
+}
+
+pub fn friction_stiffness_not_positive(name: &str, span: Span) -> Diagnostic {
+    Diagnostic::error(
+        "E0413",
+        format!("the stick stiffness `kf` of friction `{name}` must be positive"),
+    )
+    .primary(span, "zero or negative")
+    .hint("kf is the stiffness before the slider slips, e.g. `kf 1000 N/mm`")
+}
+
+pub fn friction_limit_negative(name: &str, span: Span) -> Diagnostic {
+    Diagnostic::error(
+        "E0414",
+        format!("the slip limit of friction `{name}` is negative"),
+    )
+    .primary(span, "negative")
+    .hint("the Coulomb limit is a magnitude, zero or positive, e.g. `limit 150 N`")
 }

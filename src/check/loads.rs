@@ -292,12 +292,26 @@ impl Checker {
                         ok = false;
                         continue;
                     }
-                    let values = row
+                    let values: Vec<f64> = row
                         .values
                         .iter()
                         .zip(&factors)
                         .map(|(v, f)| v.value * f)
                         .collect();
+                    // Each cell judged at its column: `1e400` overflows to
+                    // infinity, `1e200` is finite but no load.
+                    for ((v, x), ch) in row.values.iter().zip(&values).zip(&channels) {
+                        let dim = Self::component_dim(ch.component);
+                        let bad = if x.is_finite() {
+                            error::beyond_any_suspension(*x, dim, v.span)
+                        } else {
+                            Some(error::bad_number("this value", v.span, "is not finite"))
+                        };
+                        if let Some(d) = bad {
+                            self.problems.push(d);
+                            ok = false;
+                        }
+                    }
                     cases.push(LoadCase {
                         name: row.name.name.clone(),
                         values,
@@ -442,6 +456,12 @@ impl Checker {
         let dim = Self::component_dim(channels[idx].component);
         for w in waypoints.windows(2) {
             let n = ((w[1] - w[0]).abs() / step).round();
+            // Judged in floating point, before any count is converted or
+            // allocated: `by 1e-300 N` gives n = 1e300.
+            if !n.is_finite() || values.len() as f64 + n > MAX_SWEEP_STEPS as f64 {
+                self.problems.push(bad_sweep(span));
+                return None;
+            }
             if ((w[1] - w[0]).abs() - n * step).abs() > 1e-9 * step.max(w[1].abs()) || n < 1.0 {
                 self.problems.push(
                     Diagnostic::error(
@@ -459,10 +479,6 @@ impl Checker {
                         )
                     }),
                 );
-                return None;
-            }
-            if values.len() + n as usize > MAX_SWEEP_STEPS {
-                self.problems.push(bad_sweep(span));
                 return None;
             }
             let dir = (w[1] - w[0]).signum();

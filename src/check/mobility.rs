@@ -7,12 +7,16 @@ use crate::diagnostic::Diagnostic;
 use crate::model::{ElementId, JointId};
 use crate::statics::mobility::{Mobility, Motion};
 
+/// Moving parts the design-configuration analysis takes: its matrices are
+/// 6n x 6n and dense (500 parts: 3000 x 3000, 72 MB, a few seconds).
+const MAX_ANALYSED_PARTS: usize = 500;
+
 impl Checker {
     /// Moving parts that no joint, bushing, spring or stop touches: said plainly,
     /// instead of as six free motions.
     fn unconnected_parts(&mut self) -> Vec<crate::model::PartId> {
         let md = &self.model;
-        let mut touched: Vec<crate::model::PartId> = Vec::new();
+        let mut touched = vec![false; md.parts.len()];
         let pairs = md
             .active_joints()
             .map(|(_, j)| (j.i, j.j))
@@ -20,11 +24,16 @@ impl Checker {
             .chain(md.springs.iter().map(|s| (s.i, s.j)))
             .chain(md.stops.iter().map(|s| (s.i, s.j)));
         for (i, j) in pairs {
-            touched.push(md.marker(i).part);
-            touched.push(md.marker(j).part);
+            for m in [i, j] {
+                if let Some(t) = touched.get_mut(md.marker(m).part.index()) {
+                    *t = true;
+                }
+            }
         }
-        let lonely: Vec<crate::model::PartId> =
-            md.moving_parts().filter(|p| !touched.contains(p)).collect();
+        let lonely: Vec<crate::model::PartId> = md
+            .moving_parts()
+            .filter(|p| !touched.get(p.index()).copied().unwrap_or(false))
+            .collect();
         for &p in &lonely {
             let d = Diagnostic::error(
                 "E0411",
@@ -40,6 +49,28 @@ impl Checker {
 
     pub(super) fn mobility(&mut self) {
         let lonely = self.unconnected_parts();
+        // A model with a part held by nothing is wrong already: the dense
+        // analysis would only repeat it (and 10 000 parts need 28 GB).
+        if !lonely.is_empty() {
+            return;
+        }
+        let moving = self.model.moving_parts().count();
+        if moving > MAX_ANALYSED_PARTS {
+            self.problems.push(
+                Diagnostic::warning(
+                    "W0604",
+                    format!(
+                        "mobility not analysed: {moving} moving parts, more than the {MAX_ANALYSED_PARTS} the dense analysis takes"
+                    ),
+                )
+                .primary(
+                    self.span_of(ElementId::Part(crate::model::PartId(0))),
+                    "in this model",
+                )
+                .note("unrestrained and redundant motions of this model are not reported"),
+            );
+            return;
+        }
         let mut m = crate::statics::mobility(&self.model);
         m.unrestrained.retain(|mo| !lonely.contains(&mo.part));
         let counts = counts(&m);

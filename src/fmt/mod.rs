@@ -1,9 +1,11 @@
 //! Canonical layout of axle source, keeping every comment. `format_source` is a
 //! fixed point: formatting formatted text changes nothing.
 
+pub mod edit;
 mod model;
 mod print;
 
+pub use edit::{Edited, Request, edit_source};
 pub use model::print_model;
 
 use crate::diagnostic::Diagnostic;
@@ -13,10 +15,62 @@ use crate::syntax::trivia::{Comment, comments};
 
 const INDENT: &str = "    ";
 
-/// Parses and formats a file.
+/// Parses and formats a file. Line ends come out as `\n` (a lone `\r` ends a
+/// line for the parser, so it does here too). The result is verified before
+/// it is returned: it parses, formatting it again changes nothing, and it
+/// checks to the same model as the input when the input checks; otherwise
+/// E0004, and nothing should be written.
 pub fn format_source(file: FileId, text: &str) -> Result<String, Diagnostic> {
-    let ast = crate::syntax::parse(file, text)?;
-    Ok(format_file(&ast, text))
+    let text = lone_cr_to_lf(text);
+    let ast = crate::syntax::parse(file, &text)?;
+    let out = format_file(&ast, &text);
+    verify(file, &text, &out)?;
+    Ok(out)
+}
+
+/// `\r` not followed by `\n` becomes `\n`: the same length, so spans into
+/// the original text stay valid for diagnostics.
+fn lone_cr_to_lf(text: &str) -> std::borrow::Cow<'_, str> {
+    let bytes = text.as_bytes();
+    let lone = |i: usize| bytes[i] == b'\r' && bytes.get(i + 1) != Some(&b'\n');
+    if !(0..bytes.len()).any(lone) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len());
+    for (i, ch) in text.char_indices() {
+        out.push(if ch == '\r' && lone(i) { '\n' } else { ch });
+    }
+    std::borrow::Cow::Owned(out)
+}
+
+/// The formatter's own guarantee, checked on every run (see [`format_source`]).
+fn verify(file: FileId, text: &str, out: &str) -> Result<(), Diagnostic> {
+    let refuse = |why: &str| {
+        Diagnostic::error(
+            "E0004",
+            format!("the formatter's output {why}; the file is left as it is"),
+        )
+        .primary(Span::new(file, 0, 0), "not rewritten")
+        .note("this is a bug of `axle fmt`: please report it with the file")
+    };
+    let again = crate::syntax::parse(file, out)
+        .map(|ast| format_file(&ast, out))
+        .map_err(|_| refuse("does not parse"))?;
+    if again != out {
+        return Err(refuse("changes when formatted again"));
+    }
+    let model = |t: &str| {
+        crate::check::check_str("fmt", t).1.model.map(|mut m| {
+            m.origins = Default::default();
+            m
+        })
+    };
+    if let Some(before) = model(text)
+        && model(out).as_ref() != Some(&before)
+    {
+        return Err(refuse("does not check to the same model"));
+    }
+    Ok(())
 }
 
 /// Formats a parsed file; `text` is the source it was parsed from.
@@ -158,16 +212,26 @@ impl Formatter<'_> {
         self.end_line(span.end as usize);
     }
 
-    fn open_block(&mut self, span: Span, head: String) {
+    /// Opens a block; `head_end` is where its head ends in the source (the
+    /// `{` follows it; a head printed as written carries its own comments).
+    fn open_block(&mut self, span: Span, head: String, head_end: usize) {
         // A block always stands apart from what precedes it (and its leading comments with it).
         self.force_blank = !self.out.is_empty();
         self.flush_leading(span.start as usize, "", true);
         self.out.push_str(&head);
         self.out.push_str(" {");
+        while self
+            .comments
+            .get(self.next)
+            .is_some_and(|c| c.offset < head_end)
+        {
+            self.next += 1;
+        }
         // The `{` is the first `{` after the head; a comment may follow it.
-        let brace = self.text[span.range()]
+        let from = head_end.max(span.start as usize);
+        let brace = self.text[from..span.end as usize]
             .find('{')
-            .map_or(span.start as usize, |i| span.start as usize + i + 1);
+            .map_or(span.start as usize, |i| from + i + 1);
         self.end_line(brace);
     }
 
@@ -193,7 +257,7 @@ impl Formatter<'_> {
             ItemKind::Param(p) => self.statement(item.span, "", true, || print::param(p)),
             ItemKind::Part(p) => {
                 let kw = if p.ground { "ground" } else { "part" };
-                self.open_block(item.span, format!("{kw} {}", p.name.name));
+                self.open_block(item.span, format!("{kw} {}", p.name.name), 0);
                 for (n, pi) in p.items.iter().enumerate() {
                     let keep = n > 0;
                     match pi {
@@ -212,7 +276,7 @@ impl Formatter<'_> {
                 if let Some(k) = &e.kind {
                     head += &format!(" {}", k.name);
                 }
-                self.open_block(item.span, head);
+                self.open_block(item.span, head, 0);
                 for (n, p) in e.props.iter().enumerate() {
                     self.statement(p.span, INDENT, n > 0, || {
                         format!("{} {}", p.key.name, print::value(&p.value, INDENT))
@@ -237,12 +301,15 @@ impl Formatter<'_> {
                 };
                 let head = format!("loads {} table ({})", l.name.name, cols.join(", "));
                 if self.has_inner_comment(head_span) {
-                    // Keep a commented header as written, up to the brace.
-                    let src = &self.text[head_span.start as usize..];
-                    let upto = src.find('{').unwrap_or(src.len());
-                    self.open_block(span, src[..upto].trim_end().to_string());
+                    // Keep a commented header as written, up to its `)`: the
+                    // comments in it are printed with it, once.
+                    let end = head_span.end as usize;
+                    let rest = &self.text[end..span.end as usize];
+                    let close = rest.find(')').map_or(end, |i| end + i + 1);
+                    let src = &self.text[head_span.start as usize..close];
+                    self.open_block(span, src.trim_end().to_string(), close);
                 } else {
-                    self.open_block(span, head);
+                    self.open_block(span, head, 0);
                 }
                 let lines = print::table_rows(rows, columns.len());
                 for (n, (row, line)) in rows.iter().zip(lines).enumerate() {
@@ -250,12 +317,33 @@ impl Formatter<'_> {
                 }
             }
             LoadsBody::Sweep { lines } => {
-                self.open_block(span, format!("loads {} sweep", l.name.name));
+                self.open_block(span, format!("loads {} sweep", l.name.name), 0);
                 for (n, line) in lines.iter().enumerate() {
                     self.statement(line.span, INDENT, n > 0, || print::sweep_line(line));
                 }
             }
         }
         self.close_block(span);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SRC: &str = include_str!("../../examples/four_bar.axle");
+
+    /// The safety net behind `fmt`: an output that checks to another model
+    /// (a value changed), or does not parse, is refused.
+    #[test]
+    fn an_output_that_changes_the_model_or_does_not_parse_is_refused() {
+        let f = FileId(0);
+        assert!(verify(f, SRC, SRC).is_ok());
+        let moved = SRC.replace("(250, 0, 0)", "(251, 0, 0)");
+        let e = verify(f, SRC, &moved).expect_err("another model");
+        assert_eq!(e.code, "E0004");
+        assert!(e.message.contains("same model"), "{}", e.message);
+        let e = verify(f, SRC, "ground g {").expect_err("does not parse");
+        assert!(e.message.contains("does not parse"), "{}", e.message);
     }
 }

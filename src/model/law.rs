@@ -166,3 +166,11 @@ impl<'a> IntoIterator for &'a AxisLaws {
         (0..3).map(Box::new(move |a| self.get(a)))
     }
 }
+
+/// `laws[axis] = ...`: on an axisymmetric family x and y are one law, so
+/// changing either changes both (see [`AxisLaws::get_mut`]).
+impl std::ops::IndexMut<usize> for AxisLaws {
+    fn index_mut(&mut self, axis: usize) -> &mut AxisLaw {
+        self.get_mut(axis)
+    }
+}

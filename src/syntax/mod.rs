@@ -2,6 +2,7 @@
 //! [`parse_collecting`] resumes after it at the next item to report more.
 
 pub mod ast;
+pub mod depth;
 pub mod parser;
 mod pest_error;
 pub mod trivia;
@@ -15,6 +16,7 @@ use pest::Parser;
 pub fn parse(file: FileId, text: &str) -> Result<ast::File, Diagnostic> {
     // Token-level detail makes errors name the missing `,` instead of a rule.
     pest::set_error_detail(true);
+    depth::check(file, text)?;
     match AxleParser::parse(Rule::file, text) {
         Ok(mut pairs) => {
             let root = pairs.next().expect("invariant: `file` matched");
@@ -27,7 +29,7 @@ pub fn parse(file: FileId, text: &str) -> Result<ast::File, Diagnostic> {
 /// Words that start an item at the beginning of a line: where parsing can resume.
 const ITEM_KEYWORDS: &[&str] = &[
     "model", "import", "default", "param", "ground", "part", "joint", "bushing", "spring", "stop",
-    "wheel", "loads",
+    "friction", "wheel", "loads",
 ];
 
 /// At most this many syntax errors are reported per file.

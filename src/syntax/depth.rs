@@ -1,0 +1,122 @@
+//! A bound on how deep an expression can nest, checked on the raw text before
+//! pest sees it: the parser, the syntax tree and every pass over it recurse
+//! once per parenthesis and once per operator, so 1600 nested parentheses or
+//! 100 000 unary minus signs would overflow the stack. No suspension model
+//! comes near the bounds; a file beyond them gets E0005 at the character
+//! that crosses them.
+
+use crate::diagnostic::Diagnostic;
+use crate::span::{FileId, Span};
+
+/// Parentheses open at once.
+pub const MAX_PARENS: usize = 48;
+/// Nesting of one expression: open parentheses plus the operators along the
+/// way (each `+ - * /` makes the tree one level deeper).
+pub const MAX_DEPTH: usize = 256;
+
+/// E0005 at the first character where an expression nests too deeply.
+pub fn check(file: FileId, text: &str) -> Result<(), Diagnostic> {
+    // Operators counted at each open parenthesis level; their sum is the
+    // depth of the tree at this point. `,` and a line end at level 0 start
+    // a new expression at their level.
+    let mut levels: Vec<usize> = vec![0];
+    let mut depth = 0usize;
+    let bytes = text.as_bytes();
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'/' if bytes.get(i + 1) == Some(&b'/') => {
+                while i < bytes.len() && bytes[i] != b'\n' && bytes[i] != b'\r' {
+                    i += 1;
+                }
+                continue;
+            }
+            b'(' => {
+                levels.push(1);
+                depth += 1;
+                if levels.len() - 1 > MAX_PARENS {
+                    return Err(too_deep(
+                        file,
+                        i,
+                        "parentheses nested more than",
+                        MAX_PARENS,
+                    ));
+                }
+            }
+            b')' if levels.len() > 1 => depth -= levels.pop().unwrap_or(0),
+            b',' => {
+                // The level's own parenthesis stays counted.
+                let keep = usize::from(levels.len() > 1);
+                if let Some(top) = levels.last_mut() {
+                    depth -= *top - keep;
+                    *top = keep;
+                }
+            }
+            b'\n' | b'\r' if levels.len() == 1 => {
+                levels[0] = 0;
+                depth = 0;
+            }
+            b'+' | b'-' | b'*' | b'/' => {
+                if let Some(top) = levels.last_mut() {
+                    *top += 1;
+                }
+                depth += 1;
+            }
+            _ => {}
+        }
+        if depth > MAX_DEPTH {
+            return Err(too_deep(
+                file,
+                i,
+                "an expression nested more than",
+                MAX_DEPTH,
+            ));
+        }
+        i += 1;
+    }
+    Ok(())
+}
+
+fn too_deep(file: FileId, at: usize, what: &str, limit: usize) -> Diagnostic {
+    Diagnostic::error("E0005", format!("{what} {limit} levels deep"))
+        .primary(Span::new(file, at, at + 1), "nested too deeply here")
+        .hint("write the value as a number, or split it with `param` lines")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn depth_error(text: &str) -> Option<usize> {
+        check(FileId(0), text)
+            .err()
+            .map(|d| d.labels[0].span.start as usize)
+    }
+
+    #[test]
+    fn realistic_expressions_pass_and_the_bounds_are_exact() {
+        assert_eq!(
+            depth_error("k (310, 2400 - 2 * 3, -(180)) N/mm // a - b\n"),
+            None
+        );
+        let at_limit = format!("{}1{}", "(".repeat(MAX_PARENS), ")".repeat(MAX_PARENS));
+        assert_eq!(depth_error(&at_limit), None);
+        let over = format!(
+            "{}1{}",
+            "(".repeat(MAX_PARENS + 1),
+            ")".repeat(MAX_PARENS + 1)
+        );
+        assert_eq!(depth_error(&over), Some(MAX_PARENS));
+        let minus = format!("x {}1\n", "-".repeat(MAX_DEPTH));
+        assert_eq!(depth_error(&minus), None);
+        assert_eq!(
+            depth_error(&format!("x -{}", &minus[2..])),
+            Some(2 + MAX_DEPTH)
+        );
+        // Commas and line ends start new expressions: a long table is fine.
+        let table = "a -1 -2 -3 -4\n".repeat(10_000);
+        assert_eq!(depth_error(&table), None);
+        let vector = format!("({})", vec!["-1"; 10_000].join(", "));
+        assert_eq!(depth_error(&vector), None);
+    }
+}
