@@ -75,9 +75,11 @@ fn three(d: &mut Deck, s: &Statement, key: &str, scale: f64) -> Option<[f64; 3]>
     }
 }
 
+/// ADAMS has no axisymmetric bushing: a family whose x and y laws are equal
+/// is read as one (its radial law stored once).
 fn symmetry(b: &mut Bushing) {
-    if b.translational[0] == b.translational[1] && b.rotational[0] == b.rotational[1] {
-        b.symmetry = Symmetry::Axisymmetric;
+    for laws in [&mut b.translational, &mut b.rotational] {
+        *laws = AxisLaws::from_three(laws.to_three(), true);
     }
 }
 
@@ -263,11 +265,11 @@ fn gforce(d: &mut Deck, s: &Statement, loads: &mut Vec<(MarkerId, Component, f64
             }),
         };
         if n < 3 {
-            b.translational[n] = law;
+            *b.translational.get_mut(n) = law;
             b.offset[n] = Val::lit(t0 * sx);
             b.preload[n] = Val::lit(f0 * sy);
         } else {
-            b.rotational[n - 3] = law;
+            *b.rotational.get_mut(n - 3) = law;
             b.angle_offset[n - 3] = Val::lit(t0 * sx);
             b.torque_preload[n - 3] = Val::lit(f0 * sy);
         }
