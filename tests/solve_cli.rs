@@ -401,16 +401,27 @@ fn unknown_set_suggests_the_near_name() {
         "--loadcases",
         "thesis_table_51",
     ]);
-    assert_eq!(code, 1);
+    // A name on the command line the model lacks is a usage error (exit 2,
+    // docs/language.md), listing the sets.
+    assert_eq!(code, 2);
     assert!(stdout.is_empty());
     assert!(
         stderr.contains("no load-case set `thesis_table_51`")
-            && stderr.contains("did you mean `thesis_table_5_1`?"),
+            && stderr.contains("did you mean `thesis_table_5_1`?")
+            && stderr.contains("the model's load-case sets: thesis_table_4_4"),
         "{stderr}"
     );
     let (code, _, stderr) = axle(&["kc", "examples/mcpherson.axle", "--sweep", "bumpp"]);
-    assert_eq!(code, 1);
+    assert_eq!(code, 2);
     assert!(stderr.contains("did you mean `bump`?"), "{stderr}");
+    let (code, _, stderr) = axle(&[
+        "emit",
+        "lcf",
+        "examples/mcpherson.axle",
+        "--loadcases",
+        "nope",
+    ]);
+    assert_eq!(code, 2, "{stderr}");
 }
 
 #[test]

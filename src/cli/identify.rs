@@ -39,10 +39,10 @@ pub struct IdentifyArgs {
     #[arg(long, default_value_t = 0.5)]
     pub match_tolerance: f64,
     /// K&C CSV: its fx, fy, fz (and mx, my, mz) are the loads; lsq also fits its channels.
-    #[arg(long)]
+    #[arg(long, conflicts_with_all = ["loads", "loadcases"])]
     pub kc: Option<PathBuf>,
     /// Loads CSV: step, fx, fy, fz [, mx, my, mz].
-    #[arg(long)]
+    #[arg(long, conflicts_with = "loadcases")]
     pub loads: Option<PathBuf>,
     /// A load-case set of the model, matched to the landmark steps in order.
     #[arg(long)]
@@ -132,6 +132,12 @@ pub fn run(a: &IdentifyArgs) -> Exit {
                 Ok(k) => k,
                 Err(e) => return fail(&sources, e.to_diagnostic(id)),
             };
+            let measured_steps: Vec<usize> =
+                landmarks.observations.iter().map(|o| o.step).collect();
+            if let Err(e) = measured::same_steps(&kc, &measured_steps) {
+                eprintln!("error: {}: {e}", path.display());
+                return Exit::Input;
+            }
         }
         l
     } else {
@@ -145,7 +151,8 @@ pub fn run(a: &IdentifyArgs) -> Exit {
                         "error: the model has no load-case set `{name}` (it has {})",
                         names.join(", ")
                     );
-                    return Exit::Input;
+                    // A wrong name on the command line is a usage error.
+                    return Exit::Io;
                 }
             },
             None => match model.default_load_set {

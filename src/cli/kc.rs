@@ -1,6 +1,6 @@
 //! `axle kc FILE --sweep bump|lateral|longitudinal|SET [--plot OUT.svg] [--format …] [-o OUT]`.
 
-use super::input::{emit, load_model, pick_set};
+use super::input::{emit, load_model, pick_set_reported};
 use super::{Exit, OutFormat};
 use crate::diagnostic::Diagnostic;
 use crate::kc::{KcRow, kc_rows};
@@ -117,7 +117,7 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
             .hint("declare a `wheel` with a centre and a contact marker"),
         ));
     }
-    let set: LoadSetId = pick_set(&loaded, Some(&args.sweep)).map_err(fail)?;
+    let set: LoadSetId = pick_set_reported(&loaded, Some(&args.sweep))?;
     let problem = Problem::new(model).map_err(|e| fail(e.to_diagnostic(model)))?;
     let ls = &model.load_sets[set.index()];
     let eqs = super::input::solve_reporting(&loaded, &problem, set)?;
