@@ -8,6 +8,17 @@
 //!    ([`fmt`]), the ADAMS decks ([`emit`]); [`import`] reads ADAMS datasets back.
 //!
 //! Only `main.rs` and `cli/` touch the filesystem.
+//!
+//! Lints (enforced by `.ci/run`): the library never panics on user data
+//! through `unwrap`/`expect` (a fact the code proves locally may use them with
+//! an `allow` saying why) and never prints: it returns diagnostics and text;
+//! only `cli/` and the diagnostic renderer write to the terminal.
+#![deny(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::print_stdout,
+    clippy::print_stderr
+)]
 
 pub mod check;
 pub mod cli;

@@ -153,6 +153,8 @@ pub fn identify(
             u.addrs
                 .iter()
                 .map(|a| {
+                    #[allow(clippy::expect_used)]
+                    // every address was checked to be a bushing axis above
                     let (b, ax) = axis(*a).expect("checked above");
                     measured_def(b, ax)
                 })
@@ -196,10 +198,13 @@ pub fn identify(
             let mut ok_any = false;
             let mut words = Vec::new();
             for (a, addr) in u.addrs.iter().enumerate() {
+                #[allow(clippy::expect_used)]
+                // every address was checked to be a bushing axis above
                 let (b, ax) = axis(*addr).expect("checked above");
                 let force: Vec<f64> = states
                     .iter()
                     .map(|s| {
+                        #[allow(clippy::expect_used)] // the failed solves returned early above
                         let st = s.as_ref().expect("solved above");
                         let ev = forces::bushing(
                             &problem.model,
