@@ -473,3 +473,18 @@ fn output_file_and_csv_without_wheels() {
     );
     assert_eq!(csv.lines().count(), 4);
 }
+
+/// The README's main job is clean: A's -18.7° in case c1 is torsion about its
+/// own axis, which projected angles represent exactly (no W1001).
+#[test]
+fn the_readme_main_job_prints_no_warning() {
+    let (code, stdout, stderr) = axle(&[
+        "solve",
+        "examples/mcpherson.axle",
+        "--loadcases",
+        "thesis_table_5_1",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.is_empty(), "{stderr}");
+    assert!(stdout.contains("13 cases"), "{stdout}");
+}
