@@ -197,7 +197,9 @@ fn lcf_height_mode_writes_the_solved_wheel_centre_heights() {
         let (x, r) = st.part_pose(wc.part);
         let z = (x + r * wc.origin()).z;
         assert!((row[0] - z).abs() < 1e-6, "case {k}: {} vs {z}", row[0]);
-        assert_eq!(row[1], 0.0, "no right wheel");
+        // The half axle's missing right side is its mirror image, not a
+        // request for a 0 mm wheel-centre height.
+        assert_eq!(row[1], row[0], "right wheel mirrored");
     }
     // c1..c5: fz 1500..7500 N, strictly rising centre; lateral rows keep fy.
     assert!(
@@ -205,6 +207,9 @@ fn lcf_height_mode_writes_the_solved_wheel_centre_heights() {
         "{rows:?}"
     );
     assert_eq!(rows[5][2], -4000.0);
+    assert_eq!(rows[5][3], 4000.0, "mirrored lateral force");
+    assert!(text.contains("VERTICAL_MODE_FOR_SETUP  =  'wheel_center_height'"));
+    assert!(text.contains("$ right wheel: none in the model; its columns mirror the left wheel's"));
 }
 
 /// The deck's wheel-angle REQUESTs report axle's toe and camber: their F2/F3
