@@ -274,6 +274,30 @@ fn kc_bump_plot_is_svg_with_four_titled_panels() {
     ]);
     let svg = std::fs::read_to_string(&lat).expect("plot written");
     assert!(svg.contains("lateral force fy [N]") && svg.contains("Camber angle"));
+    // Table 5-1 varies fz, fy and fx: drawn against the case, not one force;
+    // and no tick reads `-0`.
+    let mixed = out.with_file_name("table_5_1.svg");
+    ok(&[
+        "kc",
+        "examples/mcpherson.axle",
+        "--sweep",
+        "thesis_table_5_1",
+        "--plot",
+        &mixed.to_string_lossy(),
+    ]);
+    let svg = std::fs::read_to_string(&mixed).expect("plot written");
+    assert!(svg.contains("load case (step)"), "{svg}");
+    for s in [&svg, &std::fs::read_to_string(&lat).expect("plot")] {
+        // plotters writes each text on its own line between the tags.
+        let texts: Vec<&str> = s.lines().filter(|l| !l.starts_with('<')).collect();
+        assert!(
+            !texts.iter().any(|t| *t == "-0" || *t == "-0.0"),
+            "{texts:?}"
+        );
+    }
+    // Ticks without float noise or a trailing `.0` (was `-4000.0`).
+    let lat_svg = std::fs::read_to_string(&lat).expect("plot");
+    assert!(lat_svg.lines().any(|l| l == "-4000"), "{lat_svg}");
 }
 
 #[test]

@@ -23,8 +23,19 @@ pub struct Args {
 }
 
 /// What the plots are drawn against: the swept channel of a sweep, else the
-/// component that varies most; a vertical sweep is a bump sweep.
+/// one component a table varies, else (a mixed table) the case; a vertical
+/// sweep is a bump sweep.
 fn sweep_kind(set: &LoadSet) -> Sweep {
+    if let LoadForm::Table = set.form {
+        let varies = |i: usize| {
+            set.cases
+                .iter()
+                .any(|c| c.values[i] != set.cases[0].values[i])
+        };
+        if (0..set.channels.len()).filter(|&i| varies(i)).count() > 1 {
+            return Sweep::Case;
+        }
+    }
     let comp = match &set.form {
         LoadForm::Sweep { swept, .. } => set.channels.get(*swept).map(|c| c.component),
         LoadForm::Table => (0..set.channels.len())
