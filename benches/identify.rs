@@ -42,15 +42,17 @@ fn main() {
             statics::Problem::new(&ma).expect("problem"),
             statics::Problem::new(&mb).expect("problem"),
         );
-        let mut prev = State::design(&ma);
-        let mut total = 0;
-        for s in &data.steps {
-            let ea = statics::solve(&pa, &s.loads, &prev).expect("solves");
-            let eb = statics::solve(&pb, &s.loads, &ea.state).expect("solves");
-            total += eb.iterations;
-            prev = ea.state;
-        }
-        total
+        let loads = || data.steps.iter().map(|s| &s.loads);
+        let design = State::design(&ma);
+        let a = statics::path::simulate(&pa, loads(), &design)
+            .into_result()
+            .expect("solves");
+        let guesses: Vec<State> = a.into_iter().map(|e| e.state).collect();
+        let b = statics::path::Simulator::new()
+            .run(&pb, loads(), &design, &guesses)
+            .into_result()
+            .expect("solves");
+        b.iter().map(|e| e.iterations).sum::<usize>()
     };
     let h = &r.history;
     println!(

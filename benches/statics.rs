@@ -1,6 +1,6 @@
 //! Speed of the statics engine on the McPherson benchmark (`docs/performance.md`):
 //! the 13-case thesis table 5-1 from a warm start and from design, the 57-step
-//! bump sweep, and scaling with a synthetic model of N McPherson corners on one
+//! bump sweep (also with strut friction), and scaling with a synthetic model of N McPherson corners on one
 //! ground. Run with `cargo bench --bench statics`.
 
 use axle::model::{Channel, LoadSet, LoadSetId, LoadTarget, Model, PartId, WheelId};
@@ -159,6 +159,20 @@ fn table_5_1_cold_with_compile(b: Bencher) {
 #[divan::bench]
 fn bump_sweep(b: Bencher) {
     let (m, set) = mcpherson("bump");
+    let p = Problem::new(&m).expect("problem");
+    b.bench_local(|| solve_path(&p, set).expect("solves"));
+}
+
+/// The same sweep on the McPherson with strut friction (kf 1000 N/mm, Ff
+/// 150 N): the cost of the history (issue 10: at most twice `bump_sweep`).
+#[divan::bench]
+fn bump_sweep_with_friction(b: Bencher) {
+    let (_, c) = axle::check::check_str(
+        "mcpherson_friction.axle",
+        include_str!("../examples/mcpherson_friction.axle"),
+    );
+    let m = c.model.expect("the example checks");
+    let set = m.load_set_named("bump").expect("stdlib set");
     let p = Problem::new(&m).expect("problem");
     b.bench_local(|| solve_path(&p, set).expect("solves"));
 }

@@ -58,8 +58,9 @@ fn measure(
     let set = truth.load_set_named("thesis_table_5_1").expect("set");
     let loads = truth.point_loads(set, 2);
     let problem = axle::statics::Problem::new(&truth).expect("compiles");
-    let eq = axle::statics::solve(&problem, &loads, &axle::statics::State::design(&truth))
-        .expect("truth solves");
+    let eq =
+        axle::statics::path::solve_case(&problem, &loads, &axle::statics::State::design(&truth))
+            .expect("truth solves");
     // One measured state: landmarks placed by the truth's equilibrium, plus noise.
     let mut noise = axle::measure::synthetic::Noise::new(9);
     let mut csv = String::from("step,part,landmark,x,y,z\n");

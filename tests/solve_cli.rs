@@ -512,3 +512,59 @@ fn the_readme_main_job_prints_no_warning() {
     assert!(stderr.is_empty(), "{stderr}");
     assert!(stdout.contains("13 cases"), "{stdout}");
 }
+
+/// A path whose third case has no equilibrium (the bushing's vertical law is
+/// flat beyond 600 N): `solve` prints the two converged cases, marks the
+/// failing one with the diagnostic naming the part that runs away, and exits
+/// 1; `kc` tabulates and plots the converged steps. The converged cases are
+/// checked against the table law: tz = -F / (600 N/mm) below 1 mm.
+#[test]
+fn a_failing_case_keeps_the_converged_ones_and_exits_1() {
+    let file = "tests/data/saturating.axle";
+    let (code, table, stderr) = axle(&["solve", file]);
+    assert_eq!(code, 1, "{stderr}");
+    assert_eq!(stderr.matches("error[E1003]").count(), 1, "{stderr}");
+    insta::assert_snapshot!(
+        "saturating_table",
+        format!("{table}\n--- stderr ---\n{stderr}")
+    );
+    let (code, json, _) = axle(&["solve", file, "--format", "json"]);
+    assert_eq!(code, 1);
+    let v: Value = serde_json::from_str(&json).expect("one JSON document");
+    let cases = v["cases"].as_array().expect("cases");
+    assert_eq!(cases.len(), 3, "two converged cases and the failing one");
+    for (c, f) in cases.iter().zip([300.0, 500.0]) {
+        assert_eq!(c["converged"], true);
+        let tz = num(&c["bushings"]["b"]["deformation"][2]);
+        assert!((tz + f / 600.0).abs() < 1e-9, "{tz}");
+    }
+    let failed = &cases[2];
+    assert_eq!(failed["converged"], false);
+    assert_eq!(failed["name"], "over");
+    assert_eq!(failed["step"], 3);
+    assert_eq!(failed["code"], "E1003");
+    assert_eq!(failed["elements"][0], "part `arm`");
+
+    let plot = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("saturating.svg");
+    let (code, kc, stderr) = axle(&[
+        "kc",
+        file,
+        "--sweep",
+        "ramp",
+        "--plot",
+        &plot.to_string_lossy(),
+    ]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(kc.contains("K&C along ramp: 2 of 4 steps"), "{kc}");
+    assert!(
+        kc.contains("case over (step 3): no equilibrium (E1003)"),
+        "{kc}"
+    );
+    let svg = std::fs::read_to_string(&plot).expect("the plot of the converged steps");
+    assert!(svg.contains("ramp (2 of 4 steps)"), "title");
+    let (code, kc_json, _) = axle(&["kc", file, "--sweep", "ramp", "--format", "json"]);
+    assert_eq!(code, 1);
+    let v: Value = serde_json::from_str(&kc_json).expect("one JSON document");
+    assert_eq!(v["rows"].as_array().map(Vec::len), Some(2));
+    assert_eq!(v["failed"]["name"], "over");
+}

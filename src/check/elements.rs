@@ -1,4 +1,4 @@
-//! Joints, bushings, springs, stops and wheels.
+//! Joints, bushings, springs, stops and wheels; frictions in [`super::friction`].
 
 use super::Checker;
 use super::error;
@@ -18,6 +18,7 @@ const WHEEL_PROPS: &[&str] = &["centre", "center", "contact"];
 impl Checker {
     pub(super) fn elements(&mut self, ast: &File) {
         let mut names: BTreeMap<String, Span> = BTreeMap::new();
+        let mut frictions = Vec::new();
         for item in &ast.items {
             let ItemKind::Element(e) = &item.kind else {
                 continue;
@@ -37,6 +38,7 @@ impl Checker {
                 ElementKw::Bushing => self.bushing(e),
                 ElementKw::Spring => self.spring(e),
                 ElementKw::Stop => self.stop(e),
+                ElementKw::Friction => frictions.push(e),
                 ElementKw::Wheel => self.wheel(e),
             }
             if e.keyword != ElementKw::Joint && e.keyword != ElementKw::Stop {
@@ -55,6 +57,10 @@ impl Checker {
                     );
                 }
             }
+        }
+        // After every joint: a friction names its joint, declared anywhere.
+        for e in frictions {
+            self.friction(e);
         }
     }
 

@@ -233,3 +233,47 @@ pub fn unknown_module<'a>(
         None => d,
     }
 }
+
+pub fn friction_without_axis(
+    name: &str,
+    joint: &str,
+    kind: &str,
+    motion: &str,
+    at: Span,
+    decl: Option<Span>,
+) -> Diagnostic {
+    let allowed = match motion {
+        "slide" => "a cylindrical or translational joint",
+        _ => "a revolute, cylindrical or spherical joint",
+    };
+    let d = Diagnostic::error(
+        "E0412",
+        format!("friction `{name}` needs a {motion} axis, and {kind} joint `{joint}` has none"),
+    )
+    .primary(at, format!("a {kind} joint has no {motion} axis"))
+    .hint(format!(
+        "a {motion} friction acts on {allowed} (the z axis of its J marker)"
+    ));
+    match decl {
+        Some(s) => d.secondary(s, format!("`{joint}` is declared {kind} here")),
+        None => d,
+    }
+}
+
+pub fn friction_stiffness_not_positive(name: &str, span: Span) -> Diagnostic {
+    Diagnostic::error(
+        "E0413",
+        format!("the stick stiffness `kf` of friction `{name}` must be positive"),
+    )
+    .primary(span, "zero or negative")
+    .hint("kf is the stiffness before the slider slips, e.g. `kf 1000 N/mm`")
+}
+
+pub fn friction_limit_negative(name: &str, span: Span) -> Diagnostic {
+    Diagnostic::error(
+        "E0414",
+        format!("the slip limit of friction `{name}` is negative"),
+    )
+    .primary(span, "negative")
+    .hint("the Coulomb limit is a magnitude, zero or positive, e.g. `limit 150 N`")
+}

@@ -3,7 +3,7 @@
 use super::Checker;
 use super::error;
 use crate::diagnostic::Diagnostic;
-use crate::model::{ParamId, Val};
+use crate::model::{ParamId, Val, Written};
 use crate::syntax::ast::{BinOp, Expr, ExprKind, UnitLit, Vector};
 use crate::units::{Dim, Unit, parse_unit};
 
@@ -260,8 +260,10 @@ impl Checker {
         example: &str,
     ) -> Option<Val> {
         let mut q = self.eval(e)?;
+        let mut trailing = 1.0;
         if let Some(u) = default {
             if !Self::has_units(e) {
+                trailing = u.factor;
                 q = Q {
                     value: q.value * u.factor,
                     dim: u.dim,
@@ -289,7 +291,26 @@ impl Checker {
         Some(Val {
             value: q.value,
             param,
+            written: Some(Self::written(e, trailing, expected)),
         })
+    }
+
+    /// Where a field was written: a plain number (`-5.2 mm`, or `310` under a
+    /// vector's trailing unit) can be rewritten in its own unit; anything else
+    /// is replaced whole by a tool that changes it.
+    fn written(e: &Expr, trailing: f64, dim: Dim) -> Written {
+        match plain_number(e, trailing) {
+            Some((span, factor)) => Written {
+                span,
+                factor: Some(factor),
+                dim,
+            },
+            None => Written {
+                span: e.span,
+                factor: None,
+                dim,
+            },
+        }
     }
 
     /// A three-component vector of the expected dimension.
@@ -325,4 +346,24 @@ impl Checker {
     pub(super) fn param_lookup(&self, name: &str) -> Option<ParamId> {
         self.model.param_named(name)
     }
+}
+
+/// A plain number with an optional sign and unit (`310`, `-5.2 mm`): the span
+/// of the signed number (without its unit) and the internal units per unit of
+/// that number (its own unit's, else `trailing`, the factor of the vector's
+/// trailing unit or 1). `None` for anything else (a name, an expression).
+pub(crate) fn plain_number(e: &Expr, trailing: f64) -> Option<(crate::span::Span, f64)> {
+    let (neg, inner) = match &e.kind {
+        ExprKind::Neg(inner) => (true, inner.as_ref()),
+        _ => (false, e),
+    };
+    let ExprKind::Quantity { num, unit } = &inner.kind else {
+        return None;
+    };
+    let factor = match unit {
+        Some(u) => parse_unit(&u.text).ok()?.factor,
+        None => trailing,
+    };
+    let start = if neg { e.span.start } else { num.span.start };
+    Some((crate::span::Span { start, ..num.span }, factor))
 }

@@ -6,11 +6,15 @@ mod bushing;
 mod elements;
 mod error;
 mod eval;
+mod friction;
+pub use friction::{allows as friction_allows, motion_word as friction_motion_word};
 mod geometry;
 mod loads;
 mod mobility;
 mod parts;
 mod props;
+
+pub(crate) use eval::plain_number;
 
 use crate::diagnostic::{Diagnostic, Problems};
 use crate::model::{ElementId, LoadSetId, Model, Param, ParamId};

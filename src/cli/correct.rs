@@ -42,46 +42,39 @@ pub fn run(a: &Args) -> Exit {
     let Some(model) = checked.model else {
         return Exit::Input;
     };
-    let set_name = a.loadcases.clone().or_else(|| {
-        model
-            .default_load_set
-            .map(|s| model.load_sets[s.index()].name.clone())
-    });
-    let Some(set) = set_name.as_deref().and_then(|n| model.load_set_named(n)) else {
-        eprintln!(
-            "error: no load set `{}` in {}",
-            set_name.unwrap_or_default(),
-            a.file.display()
-        );
-        return Exit::Input;
+    let fail = |d: crate::diagnostic::Diagnostic| {
+        render::to_stderr(&sources, &[d]);
+        Exit::Input
+    };
+    let set = match crate::measure::inputs::pick_set(&model, a.loadcases.as_deref()) {
+        Ok(s) => s,
+        Err(d) => return fail(d),
     };
     let ls = &model.load_sets[set.index()];
     let Some(case) = ls.cases.iter().position(|c| c.name == a.case) else {
-        let hint = crate::diagnostic::suggest::did_you_mean(
-            &a.case,
-            ls.cases.iter().map(|c| c.name.as_str()),
-        )
-        .unwrap_or_default();
-        eprintln!(
-            "error: load set `{}` has no case `{}` {hint}",
-            ls.name, a.case
+        let d = crate::diagnostic::Diagnostic::error(
+            "E0805",
+            format!("load set `{}` has no case `{}`", ls.name, a.case),
         );
-        return Exit::Input;
+        let names = ls.cases.iter().map(|c| c.name.as_str());
+        let d = match crate::diagnostic::suggest::did_you_mean(&a.case, names) {
+            Some(h) => d.hint(h),
+            None => d,
+        };
+        return fail(d);
     };
     let loads = model.point_loads(set, case);
-    let data = match super::locate::load_landmarks(&mut sources, &a.landmarks, &model) {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
-    let steps = data.fit(&sources, &model, a.tolerance);
-    let step = a.step.or(steps.first().map(|s| s.step));
-    let Some(measured) = steps.iter().find(|s| Some(s.step) == step) else {
-        eprintln!(
-            "error: no measured step {} in {}",
-            step.unwrap_or(0),
-            data.shown()
-        );
-        return Exit::Input;
+    let (data, steps) =
+        match super::locate::landmarks(&mut sources, &a.landmarks, &model, a.tolerance) {
+            Ok(d) => d,
+            Err(code) => return code,
+        };
+    let measured = match data.step(&steps, a.step) {
+        Ok(s) => s,
+        Err(d) => {
+            render::to_stderr(&sources, &[d]);
+            return Exit::Input;
+        }
     };
     let c = match crate::locate::correct::correct(&model, measured, &loads) {
         Ok(c) => c,
@@ -92,7 +85,11 @@ pub fn run(a: &Args) -> Exit {
     };
     // The output model is written first: the table on stdout is the last word.
     if let Some(out) = &a.output {
-        let text = crate::fmt::print_model(&crate::locate::correct::redesign(&c.model, &c.state));
+        let new = crate::locate::correct::redesign(&c.model, &c.state);
+        let text = match super::model_out::edited(&sources, id, &model, &new, "correct", &[]) {
+            Ok(t) => t,
+            Err(code) => return code,
+        };
         let code = super::input::emit(Some(out), &text);
         if code != Exit::Ok {
             return code;

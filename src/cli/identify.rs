@@ -6,9 +6,10 @@
 //! K&C curves.
 
 use super::Exit;
-use crate::diagnostic::render;
-use crate::identify::measured::{self, Measured};
+use crate::diagnostic::{Diagnostic, render};
+use crate::identify::measured::Measured;
 use crate::identify::{self, BoundIssue, Identified};
+use crate::measure::inputs;
 use crate::source::SourceMap;
 use crate::units::{from_boundary, to_boundary};
 use serde_json::{Value, json};
@@ -75,15 +76,18 @@ pub struct IdentifyArgs {
     pub report: Option<PathBuf>,
 }
 
-fn fail(sources: &SourceMap, d: crate::diagnostic::Diagnostic) -> Exit {
-    render::to_stderr(sources, &[d]);
-    Exit::Input
-}
+/// Why identification stopped: the diagnostics and the exit status.
+struct Failure(Vec<Diagnostic>, Exit);
 
-/// Reads a data file into the source map (so diagnostics can quote it).
-fn data(sources: &mut SourceMap, path: &Path) -> Option<crate::span::FileId> {
-    let text = super::read(path).ok()?;
-    Some(sources.add(super::read::shown(path), text))
+impl Failure {
+    fn input(d: Diagnostic) -> Failure {
+        Failure(vec![d], Exit::Input)
+    }
+
+    /// A bad option value (exit 2, like clap's own usage errors).
+    fn option(message: &str) -> Failure {
+        Failure(vec![Diagnostic::error("E1102", message)], Exit::Io)
+    }
 }
 
 pub fn run(a: &IdentifyArgs) -> Exit {
@@ -96,104 +100,86 @@ pub fn run(a: &IdentifyArgs) -> Exit {
     let checked = crate::check::check_file(&mut sources, file);
     let errors = checked.problems.has_errors();
     render::to_stderr(&sources, &checked.problems.list);
-    let (Some(mut model), false) = (checked.model, errors) else {
+    let (Some(model), false) = (checked.model, errors) else {
         return Exit::Input;
     };
+    let result = identify(a, &mut sources, file, &model);
+    let out = match result {
+        Ok(out) => out,
+        Err(Failure(diags, code)) => {
+            // `--format json` carries the failure as its diagnostics on stdout.
+            match a.format {
+                IdentifyFormat::Json => {
+                    let text = format!("{}\n", render::to_json(&sources, &diags));
+                    let _ = super::input::emit(None, &text);
+                }
+                IdentifyFormat::Table => render::to_stderr(&sources, &diags),
+            }
+            return code;
+        }
+    };
+    let text = match a.format {
+        IdentifyFormat::Json => format!(
+            "{}\n",
+            serde_json::to_string_pretty(&to_json(&out)).unwrap_or_default()
+        ),
+        IdentifyFormat::Table => to_table(&out),
+    };
+    super::input::emit(None, &text)
+}
+
+/// Reads the data, identifies, writes `-o` and `--report`; the result to print.
+fn identify(
+    a: &IdentifyArgs,
+    sources: &mut SourceMap,
+    file: crate::span::FileId,
+    checked: &crate::model::Model,
+) -> Result<Identified, Failure> {
+    // As read: `--initial` changes the starting values, not the file's.
+    let mut model = checked.clone();
     if !(a.sigma > 0.0 && a.sigma.is_finite())
         || !(a.tolerance > 0.0)
         || !(a.match_tolerance > 0.0)
         || !a.threshold.is_finite()
     {
-        eprintln!("error: --sigma, --tolerance and --match-tolerance must be positive numbers");
-        return Exit::Io;
+        return Err(Failure::option(
+            "--sigma, --tolerance and --match-tolerance must be positive numbers",
+        ));
     }
 
     // Landmarks → part poses (warnings point at the data line left out).
-    let landmarks = match super::locate::load_landmarks(&mut sources, &a.landmarks, &model) {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
-    let poses = landmarks.fit(&sources, &model, a.match_tolerance);
-    let steps: Vec<usize> = poses.iter().map(|p| p.step).collect();
+    let files = super::locate::landmark_files(sources, &a.landmarks)
+        .map_err(|(d, code)| Failure(vec![*d], code))?;
+    let mut remarks = inputs::Remarks::default();
+    let landmarks = inputs::read_landmarks(sources, &files, &model, &mut remarks);
+    let poses = landmarks.map(|l| l.fit(sources, &model, a.match_tolerance, &mut remarks));
+    super::locate::render_remarks(sources, &remarks);
+    let poses = poses.map_err(Failure::input)?;
 
     // Loads per step.
-    let mut kc = Vec::new();
-    let loads = if let Some(path) = a.kc.as_ref().or(a.loads.as_ref()) {
-        let Some(id) = data(&mut sources, path) else {
-            return Exit::Io;
-        };
-        let text = sources.text(id).to_string();
-        let (l, _) = match measured::loads_of_file(&model, &text) {
-            Ok(x) => x,
-            Err(e) => return fail(&sources, e.to_diagnostic(id)),
-        };
-        if a.kc.as_deref() == Some(path.as_path()) {
-            kc = match measured::kc_channels(&text) {
-                Ok(k) => k,
-                Err(e) => return fail(&sources, e.to_diagnostic(id)),
-            };
-            let measured_steps: Vec<usize> =
-                landmarks.observations.iter().map(|o| o.step).collect();
-            if let Err(e) = measured::same_steps(&kc, &measured_steps) {
-                eprintln!("error: {}: {e}", path.display());
-                return Exit::Input;
-            }
-        }
-        l
-    } else {
-        let set = match &a.loadcases {
-            Some(name) => match model.load_set_named(name) {
-                Some(s) => s,
-                None => {
-                    let names: Vec<&str> =
-                        model.load_sets.iter().map(|s| s.name.as_str()).collect();
-                    eprintln!(
-                        "error: the model has no load-case set `{name}` (it has {})",
-                        names.join(", ")
-                    );
-                    // A wrong name on the command line is a usage error.
-                    return Exit::Io;
-                }
-            },
-            None => match model.default_load_set {
-                Some(s) => s,
-                None => {
-                    eprintln!(
-                        "error: no loads: give --kc, --loads or --loadcases (the model has no default load set)"
-                    );
-                    return Exit::Io;
-                }
-            },
-        };
-        match measured::match_in_order(measured::loads_of_set(&model, set), &steps) {
-            Ok(l) => l,
-            Err(e) => {
-                eprintln!("error: {e}");
-                return Exit::Input;
-            }
-        }
+    let read = |sources: &mut SourceMap, path: &Path| {
+        let text = super::read::read_text(path);
+        let text = text.map_err(|e| Failure(vec![e.to_diagnostic(sources, path)], e.exit()))?;
+        Ok::<_, Failure>(sources.add(super::read::shown(path), text))
     };
-    let mut data = match Measured::from_poses(&model, &poses, &loads) {
-        Ok(d) => d,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return Exit::Input;
-        }
+    let source = match (&a.kc, &a.loads) {
+        (Some(path), _) => inputs::LoadSource::Kc(read(sources, path)?),
+        (None, Some(path)) => inputs::LoadSource::Loads(read(sources, path)?),
+        (None, None) => inputs::LoadSource::Set(a.loadcases.as_deref()),
     };
-    measured::attach_kc(&mut data, &kc);
+    let data = inputs::assemble(sources, &model, &poses, source).map_err(|d| {
+        // A set the command line names that the model lacks is a usage error.
+        let usage = matches!(d.code, "E0801" | "E0802");
+        Failure(vec![d], if usage { Exit::Io } else { Exit::Input })
+    })?;
+    let failed =
+        |e: identify::IdentifyError, m: &crate::model::Model| Failure::input(e.to_diagnostic(m));
 
     // Unknowns, optionally all stiffnesses started at one value.
-    let unknowns = match identify::select_unknowns(&model, &a.unknown) {
-        Ok(u) => u,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return Exit::Input;
-        }
-    };
+    let unknowns = identify::select_unknowns(&model, &a.unknown).map_err(|e| failed(e, &model))?;
     if let Some(v) = a.initial {
         if !(v > 0.0 && v.is_finite()) {
-            eprintln!("error: --initial must be a positive stiffness");
-            return Exit::Io;
+            return Err(Failure::option("--initial must be a positive stiffness"));
         }
         for u in unknowns.iter().filter(|u| u.is_stiffness()) {
             u.set(&mut model, from_boundary(v, u.dim));
@@ -212,10 +198,14 @@ pub fn run(a: &IdentifyArgs) -> Exit {
                 notes = n;
             }
             if unknowns.is_empty() {
-                eprintln!(
-                    "error: no bushing has both of its parts measured, so the iterative method has nothing to identify"
-                );
-                return Exit::Input;
+                return Err(Failure::input(
+                    identify::IdentifyError::of(
+                        identify::IdentifyErrorKind::Unknowns,
+                        "no bushing has both of its parts measured, so the iterative method has nothing to identify",
+                        vec![],
+                    )
+                    .to_diagnostic(&model),
+                ));
             }
             let opts = identify::iterative::IterativeOptions {
                 threshold: a.threshold,
@@ -232,43 +222,22 @@ pub fn run(a: &IdentifyArgs) -> Exit {
             identify::lsq::identify(&model, &unknowns, &data, opts)
         }
     };
-    let mut r = match result {
-        Ok(r) => r,
-        Err(e) => {
-            let named: Vec<String> = e.elements.iter().map(|x| model.describe(*x)).collect();
-            if named.is_empty() {
-                eprintln!("error: {}", e.message);
-            } else {
-                eprintln!("error: {} [{}]", e.message, named.join(", "));
-            }
-            return Exit::Input;
-        }
-    };
+    let mut r = result.map_err(|e| failed(e, &model))?;
     r.notes.extend(notes);
     if let Some(out) = &a.output {
-        let text = crate::fmt::print_model(&r.apply(&model));
+        let new = r.apply(&model);
+        let text = super::model_out::edited(sources, file, checked, &new, "identify", &[])
+            .map_err(|code| Failure(vec![], code))?;
         let code = super::input::emit(Some(out), &text);
         if code != Exit::Ok {
-            return code;
+            return Err(Failure(vec![], code));
         }
     }
     if let Some(dir) = &a.report {
-        match write_report(dir, &model, &r, &data) {
-            Ok(n) => r.notes.extend(n),
-            Err(e) => return e,
-        }
+        let n = write_report(dir, &model, &r, &data)?;
+        r.notes.extend(n);
     }
-    let text = match a.format {
-        IdentifyFormat::Json => match serde_json::to_string_pretty(&to_json(&r)) {
-            Ok(s) => format!("{s}\n"),
-            Err(e) => {
-                eprintln!("error: cannot write the results as JSON: {e}");
-                return Exit::Io;
-            }
-        },
-        IdentifyFormat::Table => to_table(&r),
-    };
-    super::input::emit(None, &text)
+    Ok(r)
 }
 
 /// Writes `toe_camber_<direction>.svg` per swept load direction into `dir`;
@@ -279,39 +248,28 @@ fn write_report(
     initial: &crate::model::Model,
     r: &Identified,
     data: &Measured,
-) -> Result<Vec<String>, Exit> {
-    let curves = identify::report::curves(initial, &r.apply(initial), data).map_err(|e| {
-        let named: Vec<String> = e.elements.iter().map(|x| initial.describe(*x)).collect();
-        if named.is_empty() {
-            eprintln!("error: {}", e.message);
-        } else {
-            eprintln!("error: {} [{}]", e.message, named.join(", "));
-        }
-        Exit::Input
-    })?;
-    if let Err(e) = std::fs::create_dir_all(dir) {
-        eprintln!("error: cannot create {}: {e}", dir.display());
-        return Err(Exit::Io);
-    }
+) -> Result<Vec<String>, Failure> {
+    let curves = identify::report::curves(initial, &r.apply(initial), data)
+        .map_err(|e| Failure::input(e.to_diagnostic(initial)))?;
+    let report_error = |what: String| Failure(vec![Diagnostic::error("E1109", what)], Exit::Io);
+    std::fs::create_dir_all(dir)
+        .map_err(|e| report_error(format!("cannot create {}: {e}", dir.display())))?;
     let mut notes = Vec::new();
     for c in &curves {
-        let text = identify::report::svg(c, &initial.name, r.method).map_err(|e| {
-            eprintln!("error: cannot draw the report plots: {e}");
-            Exit::Io
-        })?;
+        let text = identify::report::svg(c, &initial.name, r.method)
+            .map_err(|e| report_error(format!("cannot draw the report plots: {e}")))?;
         let path = dir.join(format!("toe_camber_{}.svg", c.name));
-        if super::input::emit(Some(&path), &text) != Exit::Ok {
-            return Err(Exit::Io);
+        let code = super::input::emit(Some(&path), &text);
+        if code != Exit::Ok {
+            return Err(Failure(vec![], code));
         }
-        notes.push(format!(
-            "report {}: {} measured steps; RMS toe / camber against measured: initial {:.4} / {:.4} deg, identified {:.4} / {:.4} deg",
-            path.display(),
-            c.measured.len(),
-            c.rms(&c.initial, false),
-            c.rms(&c.initial, true),
-            c.rms(&c.identified, false),
-            c.rms(&c.identified, true),
-        ));
+        let note = identify::FitNote::Report {
+            path: path.display().to_string(),
+            steps: c.measured.len(),
+            initial: [c.rms(&c.initial, false), c.rms(&c.initial, true)],
+            identified: [c.rms(&c.identified, false), c.rms(&c.identified, true)],
+        };
+        notes.push(note.text());
     }
     Ok(notes)
 }

@@ -2,7 +2,6 @@
 //! diagnostics), pick a load set by name, print diagnostics, write results.
 
 use super::Exit;
-use crate::diagnostic::suggest::did_you_mean;
 use crate::diagnostic::{Diagnostic, render};
 use crate::model::{LoadSetId, Model};
 use crate::source::SourceMap;
@@ -46,38 +45,7 @@ pub fn pick_set_reported(loaded: &Loaded, name: Option<&str>) -> Result<LoadSetI
 /// The set named `name`, or the model's default set. An unknown name gets a
 /// did-you-mean and the list of sets.
 pub fn pick_set(loaded: &Loaded, name: Option<&str>) -> Result<LoadSetId, Diagnostic> {
-    let m = &loaded.model;
-    let names = || m.load_sets.iter().map(|s| s.name.as_str());
-    let listing = || {
-        let all: Vec<&str> = names().collect();
-        if all.is_empty() {
-            "the model has no load-case sets (write a `loads` block, or `import mcpherson_loads`)"
-                .to_string()
-        } else {
-            format!("the model's load-case sets: {}", all.join(", "))
-        }
-    };
-    match name {
-        Some(n) => m.load_set_named(n).ok_or_else(|| {
-            let d = Diagnostic::error("E0801", format!("the model has no load-case set `{n}`"))
-                .note(listing());
-            match did_you_mean(n, names()) {
-                Some(h) => d.hint(h),
-                None if ["bump", "lateral", "longitudinal"].contains(&n) => {
-                    d.hint("the K&C sweeps come with `import mcpherson_loads`")
-                }
-                None => d,
-            }
-        }),
-        None => m.default_load_set.ok_or_else(|| {
-            Diagnostic::error(
-                "E0802",
-                "no load-case set named and the model has no `default loads`",
-            )
-            .note(listing())
-            .hint("name one with --loadcases SET, or give loads with --loads CSV")
-        }),
-    }
+    crate::measure::inputs::pick_set(&loaded.model, name)
 }
 
 /// Writes results to `path` (`-` or none: stdout) through the one writer.
@@ -85,22 +53,35 @@ pub fn emit(path: Option<&Path>, text: &str) -> Exit {
     super::write::emit(&super::write::Target::from_option(path), text)
 }
 
+/// A load set solved along its path: the converged cases, and the case that
+/// failed (its diagnostic already reported).
+pub struct Solved {
+    pub eqs: Vec<crate::statics::Equilibrium>,
+    pub failed: Option<crate::output::report::FailedCase>,
+}
+
 /// Solves a load set in order, each case from the previous state; a failure
-/// becomes a diagnostic naming the case, reported, and exit status 1.
+/// becomes a diagnostic naming the case and the element, reported, and the
+/// cases before it are kept for the caller to print (then exit status 1).
 pub fn solve_reporting(
     loaded: &Loaded,
     problem: &crate::statics::Problem,
     set: LoadSetId,
-) -> Result<Vec<crate::statics::Equilibrium>, Exit> {
+) -> Solved {
     let model = &loaded.model;
     let ls = &model.load_sets[set.index()];
-    crate::statics::path::solve_path(problem, set).map_err(|e| {
+    let run = crate::statics::path::run_set(problem, set, &crate::statics::State::design(model));
+    let failed = run.failure.map(|e| {
         let case = ls.cases.get(e.case).map_or("?", |c| c.name.as_str());
         loaded.report(&[e.error.to_diagnostic(model).note(format!(
             "in case `{case}` (step {}) of load set `{}`",
             e.case + 1,
             ls.name
         ))]);
-        Exit::Input
-    })
+        crate::output::report::FailedCase::new(model, case, e.case + 1, &e.error)
+    });
+    Solved {
+        eqs: run.steps,
+        failed,
+    }
 }

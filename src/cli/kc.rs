@@ -131,7 +131,8 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
     let set: LoadSetId = pick_set_reported(&loaded, Some(&args.sweep))?;
     let problem = Problem::new(model).map_err(|e| fail(e.to_diagnostic(model)))?;
     let ls = &model.load_sets[set.index()];
-    let eqs = super::input::solve_reporting(&loaded, &problem, set)?;
+    let solved = super::input::solve_reporting(&loaded, &problem, set);
+    let (eqs, failed) = (&solved.eqs, solved.failed.as_ref());
     let names: Vec<String> = ls.cases.iter().map(|c| c.name.clone()).collect();
     let per_case: Vec<_> = eqs
         .iter()
@@ -144,13 +145,13 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
         .first()
         .map_or_else(Vec::new, |e| compliances(&problem, model, e));
 
+    // "13 steps", or "9 of 13 steps" when the path stopped.
+    let steps = match failed {
+        None => format!("{} steps", ls.cases.len()),
+        Some(_) => format!("{} of {} steps", eqs.len(), ls.cases.len()),
+    };
     if let Some(path) = &args.plot {
-        let title = format!(
-            "{}: K&C, {} ({} steps)",
-            model.name,
-            ls.name,
-            ls.cases.len()
-        );
+        let title = format!("{}: K&C, {} ({steps})", model.name, ls.name);
         let text = svg(&title, &rows, sweep_kind(ls)).map_err(|e| {
             eprintln!("error: cannot draw the plots: {e}");
             Exit::Io
@@ -162,15 +163,11 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
     let text = match args.format {
         OutFormat::Csv => kc_table::csv(&rows),
         OutFormat::Table => {
-            let head = format!(
-                "model {}, K&C along {}: {} steps\n",
-                model.name,
-                ls.name,
-                ls.cases.len()
-            );
+            let head = format!("model {}, K&C along {}: {steps}\n", model.name, ls.name);
             format!(
-                "{head}{}{}",
+                "{head}{}{}{}",
                 kc_table::table(&rows),
+                failed.map_or(String::new(), |f| f.line()),
                 compliance_table(&comp)
             )
         }
@@ -182,9 +179,16 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
                 "compliance_mm_per_kn": c,
                 "iterations": eqs.iter().map(|e| e.iterations).collect::<Vec<_>>(),
             });
+            if let Some(f) = failed {
+                v["failed"] = json!(f);
+            }
             round_json(&mut v);
             format!("{v:#}\n")
         }
     };
-    Ok(emit(args.output.as_deref(), &text))
+    match emit(args.output.as_deref(), &text) {
+        // The converged steps are written (and plotted); the failing one was reported.
+        Exit::Ok if failed.is_some() => Ok(Exit::Input),
+        e => Ok(e),
+    }
 }

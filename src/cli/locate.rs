@@ -1,15 +1,14 @@
 //! `axle locate FILE --landmarks CSV|IGES... [--reference STEP] [--format table|json] [-o OUT.axle]`,
-//! and the landmark loading `correct` shares: CSV files, and IGES files of one
-//! measured state each.
+//! and the landmark file reading `identify` and `correct` share (the files are
+//! read here; `measure::inputs` turns their text into observations and poses).
 
 use super::Exit;
 use crate::diagnostic::{Diagnostic, render};
 use crate::locate::plan::{Options, locate_all};
 use crate::locate::report::{Report, apply, report};
-use crate::measure::poses::{MeasureIssue, Observation};
+use crate::measure::inputs::{self, LandmarkFile, LandmarkFormat, Landmarks, Remarks};
 use crate::model::Model;
 use crate::source::SourceMap;
-use crate::span::{FileId, Span};
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
@@ -51,21 +50,17 @@ pub fn run(a: &Args) -> Exit {
     let Some(model) = checked.model else {
         return Exit::Input;
     };
-    let data = match load_landmarks(&mut sources, &a.landmarks, &model) {
-        Ok(d) => d,
+    let (data, steps) = match landmarks(&mut sources, &a.landmarks, &model, a.tolerance) {
+        Ok(x) => x,
         Err(code) => return code,
     };
-    let steps = data.fit(&sources, &model, a.tolerance);
-    let shown = data.shown();
-    if steps.is_empty() {
-        eprintln!("error: no step of {shown} gives a part pose");
-        return Exit::Input;
-    }
-    let reference = a.reference.unwrap_or(steps[0].step);
-    if !steps.iter().any(|s| s.step == reference) {
-        eprintln!("error: step {reference} is not in {shown}");
-        return Exit::Input;
-    }
+    let reference = match data.step(&steps, a.reference) {
+        Ok(s) => s.step,
+        Err(d) => {
+            render::to_stderr(&sources, &[d]);
+            return Exit::Input;
+        }
+    };
     let opt = Options {
         sigma: a.sigma,
         max_uncertainty: a.max_uncertainty,
@@ -74,7 +69,11 @@ pub fn run(a: &Args) -> Exit {
     let located = locate_all(&model, &steps, &opt);
     let rep = report(&model, &steps, &located, reference);
     if let Some(out) = &a.output {
-        let text = crate::fmt::print_model(&apply(&model, &located));
+        let new = apply(&model, &located);
+        let text = match super::model_out::edited(&sources, id, &model, &new, "locate", &[]) {
+            Ok(t) => t,
+            Err(code) => return code,
+        };
         let code = super::input::emit(Some(out), &text);
         if code != Exit::Ok {
             return code;
@@ -150,186 +149,72 @@ fn relative_table(r: &Report) -> String {
     s
 }
 
-/// Landmark observations from every `--landmarks` file, with where each came from.
-pub struct Landmarks {
-    pub observations: Vec<Observation>,
-    /// The file of each observation (parallel to `observations`).
-    files: Vec<FileId>,
-    names: Vec<String>,
-}
-
 fn is_iges(p: &Path) -> bool {
     p.extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("igs") || e.eq_ignore_ascii_case("iges"))
 }
 
-/// Byte range of 1-based line `n` of `text`.
-fn line_span(text: &str, n: usize) -> (usize, usize) {
-    let start: usize = text
-        .split_inclusive('\n')
-        .take(n.saturating_sub(1))
-        .map(str::len)
-        .sum();
-    let len = text[start..].find('\n').unwrap_or(text.len() - start);
-    (start, start + len)
+/// Reads the `--landmarks` files into the source map (IGES as its 80-column
+/// text). `Err` with the diagnostic and exit status of an unreadable file.
+pub fn landmark_files(
+    sources: &mut SourceMap,
+    paths: &[PathBuf],
+) -> Result<Vec<LandmarkFile>, (Box<Diagnostic>, Exit)> {
+    let mut files = Vec::new();
+    for path in paths {
+        let (text, format) = if is_iges(path) {
+            let bytes = super::read::read_bytes(path);
+            let bytes = bytes.map_err(|e| (Box::new(e.to_diagnostic(sources, path)), e.exit()))?;
+            (
+                crate::data::iges::ascii_columns(&bytes),
+                LandmarkFormat::Iges,
+            )
+        } else {
+            let text = super::read::read_text(path);
+            (
+                text.map_err(|e| (Box::new(e.to_diagnostic(sources, path)), e.exit()))?,
+                LandmarkFormat::Csv,
+            )
+        };
+        let id = sources.add(super::read::shown(path), text);
+        files.push(LandmarkFile { id, format });
+    }
+    Ok(files)
 }
 
-/// Reads landmark files: CSV files keep their `step` column; IGES files are one
-/// measured state each, numbered in the order given after the last CSV step.
-/// Prints warnings, and notes about the lines and planes IGES files carry.
-/// `Err` once an error was printed (a missing file is an I/O error, exit 2).
-pub fn load_landmarks(
+/// Reads the landmark files and fits the part poses; prints the warnings and
+/// notes; `Err` once an error was printed.
+pub fn landmarks(
     sources: &mut SourceMap,
     paths: &[PathBuf],
     model: &Model,
-) -> Result<Landmarks, Exit> {
-    let mut out = Landmarks {
-        observations: Vec::new(),
-        files: Vec::new(),
-        names: paths.iter().map(|p| p.display().to_string()).collect(),
-    };
-    let mut warnings: Vec<Diagnostic> = Vec::new();
-    let skipped_warning = |id: FileId, s: &crate::data::landmarks::Skipped| {
-        Diagnostic::warning("W0710", s.message.clone())
-            .primary(Span::new(id, s.start, s.end), "left out")
-    };
-    let (csv, iges): (Vec<&PathBuf>, Vec<&PathBuf>) = paths.iter().partition(|p| !is_iges(p));
-    for path in csv {
-        let text = super::read(path)?;
-        let id = sources.add(super::read::shown(path), text);
-        match crate::data::landmarks::read(sources.text(id), model) {
-            Ok((obs, skipped)) => {
-                warnings.extend(skipped.iter().map(|s| skipped_warning(id, s)));
-                out.files.extend(obs.iter().map(|_| id));
-                out.observations.extend(obs);
-            }
-            Err(e) => {
-                render::to_stderr(sources, &[e.to_diagnostic(id)]);
-                return Err(Exit::Input);
-            }
-        }
-    }
-    let first = out.observations.iter().map(|o| o.step).max().unwrap_or(0) + 1;
-    for (k, path) in iges.into_iter().enumerate() {
-        let bytes = super::read::read_bytes(path).map_err(|e| {
-            let mut s = SourceMap::new();
-            let d = e.to_diagnostic(&mut s, path);
-            render::to_stderr(&s, &[d]);
-            e.exit()
-        })?;
-        let text = crate::data::iges::ascii_columns(&bytes);
-        let id = sources.add(path.display().to_string(), text);
-        let text = sources.text(id);
-        let file = match crate::data::iges::parse(text) {
-            Ok(f) => f,
-            Err(e) => {
-                render::to_stderr(sources, &[e.to_diagnostic(id)]);
-                return Err(Exit::Input);
-            }
-        };
-        warnings.extend(file.warnings.iter().map(|w| {
-            let mut d = w.to_diagnostic(id);
-            d.severity = crate::diagnostic::Severity::Warning;
-            d
-        }));
-        let step = first + k;
-        let (obs, skipped) = crate::data::landmarks::from_iges(&file, step, text, model);
-        warnings.extend(skipped.iter().map(|s| skipped_warning(id, s)));
-        eprintln!(
-            "note: {} is step {step}: {} landmark points",
-            path.display(),
-            obs.len()
-        );
-        for line in geometry_notes(&file) {
-            eprintln!("  {line}");
-        }
-        out.files.extend(obs.iter().map(|_| id));
-        out.observations.extend(obs);
-    }
-    render::to_stderr(sources, &warnings);
-    Ok(out)
+    tolerance: f64,
+) -> Result<(Landmarks, Vec<crate::measure::poses::StepPoses>), Exit> {
+    let files = landmark_files(sources, paths).map_err(|(d, code)| {
+        render::to_stderr(sources, &[*d]);
+        code
+    })?;
+    let mut remarks = Remarks::default();
+    let data = inputs::read_landmarks(sources, &files, model, &mut remarks);
+    let result = data.map(|d| {
+        let steps = d.fit(sources, model, tolerance, &mut remarks);
+        (d, steps)
+    });
+    render_remarks(sources, &remarks);
+    result.map_err(|d| {
+        render::to_stderr(sources, &[d]);
+        Exit::Input
+    })
 }
 
-/// What an IGES file holds besides points: lines and planes are listed (the
-/// thesis measures joint axes and faces with them; `locate` finds axes from
-/// motion instead), other entity types counted.
-fn geometry_notes(file: &crate::data::iges::Iges) -> Vec<String> {
-    use crate::data::iges::Geometry;
-    let f = |v: crate::geom::Vec3| format!("({:.3}, {:.3}, {:.3})", v.x, v.y, v.z);
-    let mut notes = Vec::new();
-    let mut other: std::collections::BTreeMap<i64, usize> = Default::default();
-    for e in &file.entities {
-        let name = e.name().unwrap_or("(unnamed)");
-        match &e.geometry {
-            Some(Geometry::Line { from, to }) => notes.push(format!(
-                "line `{name}` (D {}) from {} to {}: read, not used by locate",
-                e.de,
-                f(*from),
-                f(*to)
-            )),
-            Some(Geometry::Plane { normal, offset }) => notes.push(format!(
-                "plane `{name}` (D {}) normal {} at {offset:.3} mm: read, not used by locate",
-                e.de,
-                f(*normal)
-            )),
-            Some(Geometry::Point(_)) => {}
-            None if matches!(e.kind, 124 | 406) => {}
-            None => *other.entry(e.kind).or_default() += 1,
+/// Warnings as diagnostics, notes as `note:` lines, on stderr.
+pub fn render_remarks(sources: &SourceMap, remarks: &Remarks) {
+    render::to_stderr(sources, &remarks.warnings);
+    for n in &remarks.notes {
+        match n.strip_prefix("  ") {
+            Some(detail) => eprintln!("  {detail}"),
+            None => eprintln!("note: {n}"),
         }
-    }
-    for (kind, n) in other {
-        notes.push(format!(
-            "{n} entit{} of IGES type {kind} ignored",
-            if n == 1 { "y" } else { "ies" }
-        ));
-    }
-    notes
-}
-
-impl Landmarks {
-    /// The files, for messages.
-    pub fn shown(&self) -> String {
-        self.names.join(", ")
-    }
-
-    /// Fits every part's pose at every step and prints what was left out,
-    /// pointing at the line of the data file it came from.
-    pub fn fit(
-        &self,
-        sources: &SourceMap,
-        model: &Model,
-        tolerance: f64,
-    ) -> Vec<crate::measure::poses::StepPoses> {
-        let (steps, issues) =
-            crate::measure::poses::fit_poses(model, &self.observations, tolerance);
-        let at = |step: usize, line: usize| {
-            self.observations
-                .iter()
-                .zip(&self.files)
-                .find(|(o, _)| o.step == step && o.line == line)
-                .map(|(_, id)| {
-                    let (a, b) = line_span(sources.text(*id), line);
-                    Span::new(*id, a, b)
-                })
-        };
-        let warnings: Vec<Diagnostic> = issues
-            .iter()
-            .map(|i| {
-                let d = Diagnostic::warning("W0711", i.message(model));
-                let (span, label) = match i {
-                    MeasureIssue::LeftOut { step, line, .. } => (at(*step, *line), "left out"),
-                    MeasureIssue::NoPose { step, lines, .. } => {
-                        (lines.first().and_then(|l| at(*step, *l)), "no pose")
-                    }
-                };
-                match span {
-                    Some(s) => d.primary(s, label),
-                    None => d,
-                }
-            })
-            .collect();
-        render::to_stderr(sources, &warnings);
-        steps
     }
 }

@@ -13,6 +13,7 @@ pub mod import;
 pub mod input;
 pub mod kc;
 pub mod locate;
+pub mod model_out;
 pub mod read;
 pub mod solve;
 pub mod trim;

@@ -69,7 +69,8 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
     };
     let problem = Problem::new(model).map_err(|e| fail(e.to_diagnostic(model)))?;
     let ls = &model.load_sets[set.index()];
-    let eqs = super::input::solve_reporting(&loaded, &problem, set)?;
+    let solved = super::input::solve_reporting(&loaded, &problem, set);
+    let (eqs, failed) = (&solved.eqs, solved.failed.as_ref());
     let reports: Vec<CaseReport> = eqs
         .iter()
         .zip(&ls.cases)
@@ -86,6 +87,9 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
     let text = match args.format {
         OutFormat::Json => {
             let mut v = json!({ "model": model.name, "load_set": ls.name, "cases": reports });
+            if let (Some(f), Some(cases)) = (failed, v["cases"].as_array_mut()) {
+                cases.push(json!(f));
+            }
             if let Some(t) = &trim {
                 v["trim"] = t.json.clone();
             }
@@ -98,7 +102,7 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
                 .map_or(String::new(), |t| format!("{}\n", t.line));
             format!(
                 "{head}{}",
-                solve_table::cases(&model.name, &ls.name, &reports)
+                solve_table::cases(&model.name, &ls.name, &reports, failed)
             )
         }
         OutFormat::Csv if model.wheels.is_empty() => parts_csv::csv(&reports),
@@ -107,5 +111,9 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
             kc_table::csv(&kc_rows(model, set, &states))
         }
     };
-    Ok(emit(args.output.as_deref(), &text))
+    match emit(args.output.as_deref(), &text) {
+        // The converged cases are written; the failing one was reported.
+        Exit::Ok if failed.is_some() => Ok(Exit::Input),
+        e => Ok(e),
+    }
 }

@@ -171,6 +171,12 @@ pub fn emit_adm(m: &Model) -> Result<Deck, EmitError> {
     for k in 0..m.stops.len() {
         forces::stop(&mut o, m, &plan, k, &mut sf)?;
     }
+    for k in 0..m.frictions.len() {
+        forces::friction(&mut o, m, &plan, k)?;
+    }
+    if !m.frictions.is_empty() {
+        notes.push("frictions are written as GFORCEs: the stick spring capped at the slip limit about the design offset; ADAMS statics keeps no slip history, so the deck has no hysteresis along a path that turns back (docs/adams.md)".into());
+    }
     if plan.spring_splines.iter().chain(&plan.stop_splines).any(Option::is_some)
         || plan.bushings.iter().any(|b| matches!(b, super::plan::BushingForm::General { splines, .. } if splines.iter().any(Option::is_some)))
     {

@@ -327,3 +327,46 @@ pub fn stop(
         .write(out);
     Ok(())
 }
+
+/// A friction as a GFORCE along (or about) z of the joint's J marker: the
+/// stick spring capped at the slip limit, `-kf (s - s_p)` clamped to ±Ff, with
+/// `s_p` the design offset. ADAMS statics carries no slip history, so this is
+/// axle's element on a first loading from design (a case solved alone), and
+/// has no hysteresis along a path that turns back (`docs/adams.md`).
+pub fn friction(out: &mut String, m: &Model, plan: &Plan, idx: usize) -> Result<(), EmitError> {
+    let f = &m.frictions[idx];
+    let name = format!("friction `{}`", f.name);
+    // A checked model's friction always names one of its joints.
+    let Some(joint) = m.joints.get(f.joint.index()) else {
+        return Ok(());
+    };
+    let (i, j) = (plan.marker(joint.i), plan.marker(joint.j));
+    let (kf, limit) = (f.stiffness.value, f.limit.value);
+    let sp = crate::statics::friction::design_slip(m)[idx];
+    finite(
+        &name,
+        "its stiffness, limit or design offset",
+        &[kf, limit, sp],
+    )?;
+    let (key, x) = match f.motion {
+        FrictionMotion::Slide => (2, format!("DZ({i},{j},{j})")),
+        FrictionMotion::Rotation => (5, format!("AZ({i},{j})")),
+    };
+    let law = format!(
+        "MAX(-{lim}, MIN({lim}, -{}*({})))",
+        c(kf),
+        minus(&x, sp),
+        lim = c(limit)
+    );
+    let (gid, float) = plan.frictions[idx];
+    let mut s = Stmt::new("GFORCE", Some(gid))
+        .named(&f.name)
+        .arg("I", i.to_string())
+        .arg("JFLOAT", float.to_string())
+        .arg("RM", j.to_string());
+    for (n, k) in GKEYS.iter().enumerate() {
+        s = s.expr(k, if n == key { law.clone() } else { "0".into() });
+    }
+    s.write(out);
+    Ok(())
+}

@@ -63,6 +63,8 @@ pub struct Plan {
     pub loads: Vec<LoadGroup>,
     /// Per wheel: the spin-axis marker id.
     pub spin: Vec<u32>,
+    /// Per friction: its GFORCE id and the floating marker on its J part.
+    pub frictions: Vec<(u32, u32)>,
 }
 
 /// The marker each channel of a set acts at, or an error naming the channel.
@@ -256,7 +258,27 @@ impl Plan {
                 vtorque,
             });
         }
+        // Frictions: a GFORCE each (numbered after the bushings'), its reaction
+        // on a floating marker of the joint's J part.
+        let mut frictions = Vec::new();
+        for f in &m.frictions {
+            let jpart = m
+                .joints
+                .get(f.joint.index())
+                .map_or(ground, |j| m.marker(j.j).part);
+            gforce_n += 1;
+            let float = add(
+                &mut aux,
+                jpart,
+                format!("axle_float_{}", f.name),
+                Vec3::zeros(),
+                None,
+                true,
+            );
+            frictions.push((gforce_n, float));
+        }
         Ok(Plan {
+            frictions,
             part,
             marker,
             global,

@@ -1,9 +1,11 @@
 //! Canonical layout of axle source, keeping every comment. `format_source` is a
 //! fixed point: formatting formatted text changes nothing.
 
+pub mod edit;
 mod model;
 mod print;
 
+pub use edit::{Edited, Request, edit_source};
 pub use model::print_model;
 
 use crate::diagnostic::Diagnostic;

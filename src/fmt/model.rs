@@ -103,144 +103,23 @@ pub fn print_model(m: &Model) -> String {
         o.push('\n');
     }
     for p in &m.params {
-        let _ = write!(
-            o,
-            "param {} = {}",
-            p.name,
-            number(to_boundary(p.value, p.dim))
-        );
-        let unit = p.dim.boundary_unit();
-        if !unit.is_empty() {
-            let _ = write!(o, " {unit}");
-        }
-        if let Some(b) = &p.unknown {
-            o.push_str(" unknown");
-            if b.lower.is_some() || b.upper.is_some() {
-                let side = |x: Option<f64>| match x {
-                    Some(v) if unit.is_empty() => number(to_boundary(v, p.dim)),
-                    Some(v) => format!("{} {unit}", number(to_boundary(v, p.dim))),
-                    None => "_".into(),
-                };
-                let _ = write!(o, " [{}, {}]", side(b.lower), side(b.upper));
-            }
-        }
+        o.push_str(&param_line(p));
         o.push('\n');
     }
-    for (pi, part) in m.parts.iter().enumerate() {
-        let kw = if part.ground { "ground" } else { "part" };
-        let _ = writeln!(o, "\n{kw} {} {{", part.name);
-        for mk in m.markers.iter().filter(|x| x.part.index() == pi) {
-            let _ = write!(
-                o,
-                "    marker {} at {}",
-                mk.name,
-                vec3(m, &mk.position, Dim::LENGTH)
-            );
-            match &mk.orientation {
-                Orientation::Identity => {}
-                Orientation::Euler(a) => {
-                    let _ = write!(o, " euler {}", vec3(m, a, Dim::ANGLE));
-                }
-                Orientation::Directions { z, x } => {
-                    let _ = write!(o, " z {}", plain3(z));
-                    if let Some(x) = x {
-                        let _ = write!(o, " x {}", plain3(x));
-                    }
-                }
-            }
-            o.push('\n');
-        }
-        for l in m.landmarks.iter().filter(|x| x.part.index() == pi) {
-            let _ = writeln!(
-                o,
-                "    landmark {} at {}",
-                l.name,
-                vec3(m, &l.position, Dim::LENGTH)
-            );
-        }
-        o.push_str("}\n");
+    for pi in 0..m.parts.len() {
+        o.push('\n');
+        o.push_str(&part_block(m, PartId(pi as u32)));
     }
-    for j in &m.joints {
-        let _ = writeln!(o, "\njoint {} {} {{", j.name, j.kind.keyword());
-        let _ = writeln!(
-            o,
-            "    i {}\n    j {}\n}}",
-            m.marker_path(j.i),
-            m.marker_path(j.j)
-        );
-    }
-    for b in &m.bushings {
-        bushing(&mut o, m, b);
-    }
-    for s in &m.springs {
-        let _ = writeln!(o, "\nspring {} {{", s.name);
-        let _ = writeln!(
-            o,
-            "    i {}\n    j {}",
-            m.marker_path(s.i),
-            m.marker_path(s.j)
-        );
-        match &s.law {
-            SpringLaw::Linear {
-                k,
-                free_length,
-                preload,
-            } => {
-                let _ = writeln!(o, "    k {}", scalar(m, k, Dim::STIFFNESS));
-                let _ = writeln!(o, "    free_length {}", scalar(m, free_length, Dim::LENGTH));
-                if preload.value != 0.0 || preload.param.is_some() {
-                    let _ = writeln!(o, "    preload {}", scalar(m, preload, Dim::FORCE));
-                }
-            }
-            SpringLaw::Table(t) => {
-                let _ = writeln!(o, "    law {}", table(t, Dim::LENGTH, Dim::FORCE));
-            }
-        }
-        o.push_str("}\n");
-    }
-    for s in &m.stops {
-        let kind = match s.kind {
-            StopKind::Compression => "compression",
-            StopKind::Rebound => "rebound",
-        };
-        let _ = writeln!(o, "\nstop {} {kind} {{", s.name);
-        let _ = writeln!(
-            o,
-            "    i {}\n    j {}",
-            m.marker_path(s.i),
-            m.marker_path(s.j)
-        );
-        let _ = writeln!(
-            o,
-            "    contact_length {}",
-            scalar(m, &s.contact_length, Dim::LENGTH)
-        );
-        match &s.law {
-            StopLaw::Polynomial(c) if c.len() == 1 => {
-                let _ = writeln!(o, "    k {}", scalar(m, &c[0], Dim::STIFFNESS));
-            }
-            StopLaw::Polynomial(c) => {
-                let items: Vec<String> = c
-                    .iter()
-                    .enumerate()
-                    .map(|(n, v)| scalar(m, v, Dim::new(-(n as i8) - 1, 1, 0)))
-                    .collect();
-                let _ = writeln!(o, "    poly [{}]", items.join(", "));
-            }
-            StopLaw::Table(t) => {
-                let _ = writeln!(o, "    law {}", table(t, Dim::LENGTH, Dim::FORCE));
-            }
-        }
-        o.push_str("}\n");
-    }
-    for w in &m.wheels {
-        let _ = writeln!(
-            o,
-            "\nwheel {} {{\n    centre {}\n    contact {}\n}}",
-            w.name,
-            m.marker_path(w.centre),
-            m.marker_path(w.contact)
-        );
+    let elements = (0..m.joints.len())
+        .map(|i| ElementId::Joint(JointId(i as u32)))
+        .chain((0..m.bushings.len()).map(|i| ElementId::Bushing(BushingId(i as u32))))
+        .chain((0..m.springs.len()).map(|i| ElementId::Spring(SpringId(i as u32))))
+        .chain((0..m.stops.len()).map(|i| ElementId::Stop(StopId(i as u32))))
+        .chain((0..m.frictions.len()).map(|i| ElementId::Friction(FrictionId(i as u32))))
+        .chain((0..m.wheels.len()).map(|i| ElementId::Wheel(WheelId(i as u32))));
+    for id in elements {
+        o.push('\n');
+        o.push_str(&element(m, id).unwrap_or_default());
     }
     for (si, set) in m.load_sets.iter().enumerate() {
         if !m.imported_load_sets.contains(&LoadSetId(si as u32)) {
@@ -250,8 +129,196 @@ pub fn print_model(m: &Model) -> String {
     o
 }
 
+/// `param NAME = VALUE unit [unknown [lo, hi]]`, without a line break.
+pub fn param_line(p: &Param) -> String {
+    let mut o = format!("param {} = {}", p.name, number(to_boundary(p.value, p.dim)));
+    let unit = p.dim.boundary_unit();
+    if !unit.is_empty() {
+        let _ = write!(o, " {unit}");
+    }
+    if let Some(b) = &p.unknown {
+        o.push_str(" unknown");
+        if b.lower.is_some() || b.upper.is_some() {
+            let side = |x: Option<f64>| match x {
+                Some(v) if unit.is_empty() => number(to_boundary(v, p.dim)),
+                Some(v) => format!("{} {unit}", number(to_boundary(v, p.dim))),
+                None => "_".into(),
+            };
+            let _ = write!(o, " [{}, {}]", side(b.lower), side(b.upper));
+        }
+    }
+    o
+}
+
+/// A part block with its markers and landmarks, ending in `}` and a line break.
+pub fn part_block(m: &Model, id: PartId) -> String {
+    let part = m.part(id);
+    let kw = if part.ground { "ground" } else { "part" };
+    let mut o = format!("{kw} {} {{\n", part.name);
+    for mk in m.markers.iter().filter(|x| x.part == id) {
+        let _ = writeln!(o, "    {}", marker_line(m, mk));
+    }
+    for l in m.landmarks.iter().filter(|x| x.part == id) {
+        let _ = writeln!(o, "    {}", landmark_line(m, l));
+    }
+    o.push_str("}\n");
+    o
+}
+
+/// `marker NAME at (x, y, z) mm [orientation]`, without indent or line break.
+pub fn marker_line(m: &Model, mk: &Marker) -> String {
+    format!(
+        "marker {} at {}{}",
+        mk.name,
+        vec3(m, &mk.position, Dim::LENGTH),
+        orientation(m, mk)
+    )
+}
+
+/// ` euler (a, b, c) deg`, ` z (..) [x (..)]`, or nothing for the part's axes.
+pub fn orientation(m: &Model, mk: &Marker) -> String {
+    match &mk.orientation {
+        Orientation::Identity => String::new(),
+        Orientation::Euler(a) => format!(" euler {}", vec3(m, a, Dim::ANGLE)),
+        Orientation::Directions { z, x } => match x {
+            Some(x) => format!(" z {} x {}", plain3(z), plain3(x)),
+            None => format!(" z {}", plain3(z)),
+        },
+    }
+}
+
+/// `landmark NAME at (x, y, z) mm`, without indent or line break.
+pub fn landmark_line(m: &Model, l: &Landmark) -> String {
+    format!(
+        "landmark {} at {}",
+        l.name,
+        vec3(m, &l.position, Dim::LENGTH)
+    )
+}
+
+/// One element block (joint, bushing, spring, stop, friction, wheel), ending in `}` and a
+/// line break; `None` for ids that are not such elements (parts, markers,
+/// landmarks, parameters, load sets have printers of their own).
+pub fn element(m: &Model, id: ElementId) -> Option<String> {
+    let mut o = String::new();
+    match id {
+        ElementId::Joint(j) => joint(&mut o, m, &m.joints[j.index()]),
+        ElementId::Bushing(b) => bushing(&mut o, m, &m.bushings[b.index()]),
+        ElementId::Spring(s) => spring(&mut o, m, &m.springs[s.index()]),
+        ElementId::Stop(s) => stop(&mut o, m, &m.stops[s.index()]),
+        ElementId::Friction(f) => friction(&mut o, m, &m.frictions[f.index()]),
+        ElementId::Wheel(w) => {
+            let w = &m.wheels[w.index()];
+            let _ = writeln!(
+                o,
+                "wheel {} {{\n    centre {}\n    contact {}\n}}",
+                w.name,
+                m.marker_path(w.centre),
+                m.marker_path(w.contact)
+            );
+        }
+        _ => return None,
+    }
+    Some(o)
+}
+
+fn joint(o: &mut String, m: &Model, j: &Joint) {
+    let _ = writeln!(o, "joint {} {} {{", j.name, j.kind.keyword());
+    let _ = writeln!(
+        o,
+        "    i {}\n    j {}\n}}",
+        m.marker_path(j.i),
+        m.marker_path(j.j)
+    );
+}
+
+fn spring(o: &mut String, m: &Model, s: &Spring) {
+    let _ = writeln!(o, "spring {} {{", s.name);
+    let _ = writeln!(
+        o,
+        "    i {}\n    j {}",
+        m.marker_path(s.i),
+        m.marker_path(s.j)
+    );
+    match &s.law {
+        SpringLaw::Linear {
+            k,
+            free_length,
+            preload,
+        } => {
+            let _ = writeln!(o, "    k {}", scalar(m, k, Dim::STIFFNESS));
+            let _ = writeln!(o, "    free_length {}", scalar(m, free_length, Dim::LENGTH));
+            if preload.value != 0.0 || preload.param.is_some() {
+                let _ = writeln!(o, "    preload {}", scalar(m, preload, Dim::FORCE));
+            }
+        }
+        SpringLaw::Table(t) => {
+            let _ = writeln!(o, "    law {}", table(t, Dim::LENGTH, Dim::FORCE));
+        }
+    }
+    o.push_str("}\n");
+}
+
+fn stop(o: &mut String, m: &Model, s: &Stop) {
+    let kind = match s.kind {
+        StopKind::Compression => "compression",
+        StopKind::Rebound => "rebound",
+    };
+    let _ = writeln!(o, "stop {} {kind} {{", s.name);
+    let _ = writeln!(
+        o,
+        "    i {}\n    j {}",
+        m.marker_path(s.i),
+        m.marker_path(s.j)
+    );
+    let _ = writeln!(
+        o,
+        "    contact_length {}",
+        scalar(m, &s.contact_length, Dim::LENGTH)
+    );
+    match &s.law {
+        StopLaw::Polynomial(c) if c.len() == 1 => {
+            let _ = writeln!(o, "    k {}", scalar(m, &c[0], Dim::STIFFNESS));
+        }
+        StopLaw::Polynomial(c) => {
+            let items: Vec<String> = c
+                .iter()
+                .enumerate()
+                .map(|(n, v)| scalar(m, v, Dim::new(-(n as i8) - 1, 1, 0)))
+                .collect();
+            let _ = writeln!(o, "    poly [{}]", items.join(", "));
+        }
+        StopLaw::Table(t) => {
+            let _ = writeln!(o, "    law {}", table(t, Dim::LENGTH, Dim::FORCE));
+        }
+    }
+    o.push_str("}\n");
+}
+
+/// A friction with its motion written out (the default depends on the joint).
+fn friction(o: &mut String, m: &Model, f: &Friction) {
+    let (kf, limit) = match f.motion {
+        FrictionMotion::Slide => (Dim::STIFFNESS, Dim::FORCE),
+        FrictionMotion::Rotation => (Dim::ROT_STIFFNESS, Dim::TORQUE),
+    };
+    let joint = m
+        .joints
+        .get(f.joint.index())
+        .map_or("", |j| j.name.as_str());
+    let _ = writeln!(o, "friction {} {{", f.name);
+    let _ = writeln!(o, "    joint {joint}");
+    let _ = writeln!(o, "    kf {}", scalar(m, &f.stiffness, kf));
+    let _ = writeln!(o, "    limit {}", scalar(m, &f.limit, limit));
+    let _ = writeln!(
+        o,
+        "    motion {}",
+        crate::check::friction_motion_word(f.motion)
+    );
+    o.push_str("}\n");
+}
+
 fn bushing(o: &mut String, m: &Model, b: &Bushing) {
-    let _ = writeln!(o, "\nbushing {} {{", b.name);
+    let _ = writeln!(o, "bushing {} {{", b.name);
     let _ = writeln!(
         o,
         "    i {}\n    j {}",
@@ -335,6 +402,7 @@ fn channel_name(m: &Model, c: &Channel) -> String {
 }
 
 fn load_set(o: &mut String, m: &Model, set: &LoadSet) {
+    o.push('\n');
     let dim = |c: &Channel| {
         if c.component.is_torque() {
             Dim::TORQUE
@@ -349,7 +417,7 @@ fn load_set(o: &mut String, m: &Model, set: &LoadSet) {
                 .iter()
                 .map(|c| format!("{} {}", channel_name(m, c), dim(c).boundary_unit()))
                 .collect();
-            let _ = writeln!(o, "\nloads {} table ({}) {{", set.name, cols.join(", "));
+            let _ = writeln!(o, "loads {} table ({}) {{", set.name, cols.join(", "));
             let name_w = set.cases.iter().map(|c| c.name.len()).max().unwrap_or(0);
             let cells: Vec<Vec<String>> = set
                 .cases
@@ -378,7 +446,7 @@ fn load_set(o: &mut String, m: &Model, set: &LoadSet) {
             waypoints,
             step,
         } => {
-            let _ = writeln!(o, "\nloads {} sweep {{", set.name);
+            let _ = writeln!(o, "loads {} sweep {{", set.name);
             for (k, ch) in set.channels.iter().enumerate() {
                 let d = dim(ch);
                 let u = d.boundary_unit();

@@ -16,7 +16,7 @@ use crate::statics::forces;
 use nalgebra::DVector;
 
 fn statics_error(e: StaticsError, model: &Model) -> IdentifyError {
-    IdentifyError::new(e.message(model), e.elements.clone())
+    IdentifyError::statics("", e, model)
 }
 
 /// The generalised force of one force element at `state` (n entries).

@@ -17,7 +17,7 @@
 
 use super::linalg::{solve, svd};
 use super::lsq::{is_log, scale_of};
-use super::{BoundIssue, IdentifyError, ParamResult, Unknown};
+use super::{BoundIssue, IdentifyError, IdentifyErrorKind, ParamResult, Unknown};
 use nalgebra::DMatrix;
 
 /// The fit at its solution.
@@ -59,15 +59,21 @@ pub fn statistics(fit: &Fit) -> Result<Stats, IdentifyError> {
         let jn = fit.jac.columns(nu, fit.nuisance).into_owned();
         let ntn = jn.transpose() * &jn;
         let coef = solve(&ntn, &(jn.transpose() * &ju)).ok_or_else(|| {
-            IdentifyError::new(
+            IdentifyError::of(
+                IdentifyErrorKind::Undetermined,
                 "the registration of the measured frame to the model frame is not determined by the ground's landmarks",
                 vec![],
             )
         })?;
         ju -= &jn * coef;
     }
-    let d = svd(&ju, nf > rows)
-        .ok_or_else(|| IdentifyError::new("the Jacobian is not finite", vec![]))?;
+    let d = svd(&ju, nf > rows).ok_or_else(|| {
+        IdentifyError::of(
+            IdentifyErrorKind::Numeric,
+            "the Jacobian is not finite",
+            vec![],
+        )
+    })?;
     let smax = d.s.first().copied().unwrap_or(0.0);
     let rnk = d.s.iter().filter(|&&s| s > 1e-10 * smax).count();
     let factor = s0.max(1.0).powi(2);

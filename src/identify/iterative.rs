@@ -15,7 +15,8 @@ use super::{HistoryEntry, Identified, IdentifyError, Method, ParamResult, Unknow
 use crate::model::address::Address;
 use crate::model::{BushingId, ElementId, Model};
 use crate::statics::coords::Layout;
-use crate::statics::{self, Problem, State, forces};
+use crate::statics::path::Simulator;
+use crate::statics::{Problem, State, forces};
 
 #[derive(Debug, Clone, Copy)]
 pub struct IterativeOptions {
@@ -34,6 +35,21 @@ impl Default for IterativeOptions {
             max_iterations: 200,
         }
     }
+}
+
+/// The stiffnesses set in place in the compiled problem (the constraint
+/// analysis is not compiled again).
+fn set_values(
+    problem: &mut Problem,
+    unknowns: &[Unknown],
+    values: &[f64],
+) -> Result<(), IdentifyError> {
+    for (u, v) in unknowns.iter().zip(values) {
+        problem
+            .set_force_parameter(u, *v)
+            .map_err(|e| IdentifyError::new(e.message(problem.model()), e.elements.clone()))?;
+    }
+    Ok(())
 }
 
 /// The bushing axis an address names: (bushing, axis 0..6 with 3.. rotational).
@@ -153,8 +169,6 @@ pub fn identify(
             u.addrs
                 .iter()
                 .map(|a| {
-                    #[allow(clippy::expect_used)]
-                    // every address was checked to be a bushing axis above
                     let (b, ax) = axis(*a).expect("checked above");
                     measured_def(b, ax)
                 })
@@ -164,53 +178,51 @@ pub fn identify(
     let mut problem = Problem::new(model)
         .map_err(|e| IdentifyError::new(e.message(model), e.elements.clone()))?;
     let mut values: Vec<f64> = unknowns.iter().map(|u| u.initial).collect();
-    for (u, v) in unknowns.iter().zip(&values) {
-        u.set(&mut problem.model, *v);
-    }
+    set_values(&mut problem, unknowns, &values)?;
     let mut history = vec![HistoryEntry {
         iteration: 0,
         values: values.clone(),
     }];
-    let mut states: Vec<Option<State>> = vec![None; data.steps.len()];
+    // Each iteration's path starts every step from the previous iterate's
+    // solution at that step (a guess; the history follows the path).
+    let mut states: Vec<State> = Vec::new();
+    let mut simulator = Simulator::new();
     let mut accepted = vec![false; unknowns.len()];
     let mut detail: Vec<String> = vec![String::new(); unknowns.len()];
     for it in 1..=opts.max_iterations {
         // Simulate every step with the current stiffnesses.
-        let mut prev = State::design(model);
-        for k in 0..data.steps.len() {
-            let start = states[k].clone().unwrap_or_else(|| prev.clone());
-            let eq = statics::solve(&problem, &data.steps[k].loads, &start).map_err(|e| {
-                IdentifyError::new(
-                    format!(
-                        "iteration {it}, step {}: the model with the current stiffnesses does not solve: {}",
-                        data.steps[k].step,
-                        e.message(model)
-                    ),
-                    e.elements.clone(),
-                )
-            })?;
-            prev = eq.state.clone();
-            states[k] = Some(eq.state);
+        let run = simulator.run(
+            &problem,
+            data.steps.iter().map(|s| &s.loads),
+            &State::design(model),
+            &states,
+        );
+        if let Some(e) = run.failure {
+            return Err(IdentifyError::new(
+                format!(
+                    "iteration {it}, step {}: the model with the current stiffnesses does not solve: {}",
+                    data.steps[e.case].step,
+                    e.error.message(model)
+                ),
+                e.error.elements.clone(),
+            ));
         }
+        states = run.steps.into_iter().map(|e| e.state).collect();
         let mut next = values.clone();
         for (i, u) in unknowns.iter().enumerate() {
             let mut per_axis: Vec<(f64, f64)> = Vec::new(); // (new K, weight)
             let mut ok_any = false;
             let mut words = Vec::new();
             for (a, addr) in u.addrs.iter().enumerate() {
-                #[allow(clippy::expect_used)]
-                // every address was checked to be a bushing axis above
                 let (b, ax) = axis(*addr).expect("checked above");
                 let force: Vec<f64> = states
                     .iter()
-                    .map(|s| {
-                        #[allow(clippy::expect_used)] // the failed solves returned early above
-                        let st = s.as_ref().expect("solved above");
+                    .map(|st| {
                         let ev = forces::bushing(
-                            &problem.model,
+                            problem.model(),
                             &layout,
                             st,
-                            &problem.model.bushings[b.index()],
+                            &problem.model().bushings[b.index()],
                         );
                         // The force on I opposes the deformation: regress -F.
                         -(if ax < 3 {
@@ -258,9 +270,7 @@ pub fn identify(
             .filter(|&i| (next[i] - values[i]).abs() > opts.tolerance * values[i].abs())
             .collect();
         values = next;
-        for (u, v) in unknowns.iter().zip(&values) {
-            u.set(&mut problem.model, *v);
-        }
+        set_values(&mut problem, unknowns, &values)?;
         history.push(HistoryEntry {
             iteration: it,
             values: values.clone(),

@@ -19,6 +19,7 @@ use super::measured::Measured;
 use super::observations::{Problemset, REG, observations};
 use super::{BoundIssue, Identified, IdentifyError, Method, Unknown};
 use crate::model::Model;
+use crate::statics::Problem;
 use nalgebra::{DMatrix, DVector};
 
 #[derive(Debug, Clone, Copy)]
@@ -222,8 +223,11 @@ pub fn identify(
             vec![],
         ));
     }
+    let base = Problem::new(model)
+        .map_err(|e| IdentifyError::new(e.message(model), e.elements.clone()))?;
     let ps = Problemset {
         model,
+        base,
         unknowns,
         data,
         obs,
@@ -263,11 +267,12 @@ pub fn identify(
     let blocked = |x: &DVector<f64>, g: &DVector<f64>, i: usize| {
         (x[i] <= lo[i] && g[i] > 0.0) || (x[i] >= hi[i] && g[i] < 0.0)
     };
-    let (mut problem, mut states, mut r) = ps.evaluate(&x, &[])?;
+    let mut ev = ps.evaluate(&x, &[])?;
+    let mut r = ev.residuals.clone();
     let mut cost = 0.5 * r.norm_squared();
     let mut mu = 1e-3;
     let mut iterations = 0;
-    let mut jac = ps.jacobian(&x, &problem, &states)?;
+    let mut jac = ps.jacobian(&x, &ev);
     let mut last_remaining = f64::INFINITY;
     let mut last_frozen = 0;
     for it in 1..=opts.max_iterations {
@@ -324,16 +329,16 @@ pub fn identify(
                 small_step = true;
                 break;
             }
-            match ps.evaluate(&xt, &states) {
-                Ok((p2, s2, r2))
-                    if r2.iter().all(|v| v.is_finite()) && 0.5 * r2.norm_squared() < cost =>
+            match ps.evaluate(&xt, &ev.states) {
+                Ok(e2)
+                    if e2.residuals.iter().all(|v| v.is_finite())
+                        && 0.5 * e2.residuals.norm_squared() < cost =>
                 {
-                    let c2 = 0.5 * r2.norm_squared();
+                    let c2 = 0.5 * e2.residuals.norm_squared();
                     let rel_drop = (cost - c2) / cost.max(1e-300);
                     x = xt;
-                    problem = p2;
-                    states = s2;
-                    r = r2;
+                    r = e2.residuals.clone();
+                    ev = e2;
                     cost = c2;
                     mu = (mu / 10.0).max(1e-12);
                     accepted = true;
@@ -346,7 +351,7 @@ pub fn identify(
         if !accepted || small_step {
             break;
         }
-        jac = ps.jacobian(&x, &problem, &states)?;
+        jac = ps.jacobian(&x, &ev);
     }
     let g = jac.transpose() * &r;
     let at_bound: Vec<Option<BoundIssue>> = (0..nu)

@@ -5,7 +5,7 @@
 //! Loads come from a K&C file (its `fx, fy, fz[, mx, my, mz]` columns), a
 //! loads file, or a load-case set of the model matched to the steps in order.
 
-use super::IdentifyError;
+use super::{IdentifyError, IdentifyErrorKind};
 use crate::data::CsvError;
 use crate::data::table;
 use crate::geom::{Mat3, Vec3};
@@ -53,7 +53,8 @@ impl Measured {
         let mut steps = Vec::with_capacity(poses.len());
         for sp in poses {
             let Some((_, l)) = loads.iter().find(|(s, _)| *s == sp.step) else {
-                return Err(IdentifyError::new(
+                return Err(IdentifyError::of(
+                    IdentifyErrorKind::Data,
                     format!("step {} has landmarks but no loads", sp.step),
                     vec![],
                 ));
@@ -76,7 +77,11 @@ impl Measured {
             });
         }
         if steps.is_empty() {
-            return Err(IdentifyError::new("the landmark data give no pose", vec![]));
+            return Err(IdentifyError::of(
+                IdentifyErrorKind::Data,
+                "the landmark data give no pose",
+                vec![],
+            ));
         }
         Ok(Measured { steps })
     }
@@ -145,7 +150,8 @@ pub fn match_in_order(
     steps: &[usize],
 ) -> Result<Vec<(usize, Vec<PointLoad>)>, IdentifyError> {
     if loads.len() != steps.len() {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Data,
             format!(
                 "the load-case set has {} cases but the landmarks have {} steps; they are matched in order",
                 loads.len(),
@@ -301,7 +307,8 @@ pub fn attach_kc(measured: &mut Measured, kc: &[(usize, KcObservation)]) {
 
 /// The error for a part every step must measure.
 pub fn unmeasured(model: &Model, part: PartId, method: &str) -> IdentifyError {
-    IdentifyError::new(
+    IdentifyError::of(
+        IdentifyErrorKind::Method,
         format!(
             "the {method} method needs the pose of every moving part at every step, and part `{}` has none (no landmarks, or too few matched); identify with a model without it (thesis §4.3.3 replaces the strut by an inline joint) or use --method iterative or lsq",
             model.part(part).name

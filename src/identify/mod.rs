@@ -20,6 +20,7 @@
 pub mod columns;
 pub mod combinations;
 pub mod direct;
+pub mod error;
 pub mod fit_stats;
 pub mod iterative;
 pub mod linalg;
@@ -29,10 +30,11 @@ pub mod observations;
 pub mod report;
 pub mod unknowns;
 
+pub use error::{FitNote, IdentifyError, IdentifyErrorKind};
 pub use measured::{KcObservation, Measured, MeasuredStep};
 pub use unknowns::{Unknown, select_unknowns};
 
-use crate::model::{ElementId, Model};
+use crate::model::Model;
 
 /// Which method produced a result.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -49,28 +51,6 @@ impl Method {
             Method::Iterative => "iterative",
             Method::Lsq => "lsq",
         }
-    }
-}
-
-/// A numeric or data failure of identification, naming the elements at fault.
-#[derive(Debug, Clone, PartialEq)]
-pub struct IdentifyError {
-    pub message: String,
-    pub elements: Vec<ElementId>,
-}
-
-impl IdentifyError {
-    pub fn new(message: impl Into<String>, elements: Vec<ElementId>) -> IdentifyError {
-        IdentifyError {
-            message: message.into(),
-            elements,
-        }
-    }
-}
-
-impl std::fmt::Display for IdentifyError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.message)
     }
 }
 
@@ -130,10 +110,12 @@ pub(crate) fn flag_outside_bounds(r: &mut Identified) {
             None => text.clone(),
         });
         p.bound = Some(issue);
-        r.notes.push(format!(
-            "warning: {text}; the {} method does not enforce bounds (least squares does), and -o keeps the model's value",
-            r.method.name()
-        ));
+        let note = FitNote::OutsideBounds {
+            unknown: u.label(),
+            text,
+            method: r.method.name(),
+        };
+        r.notes.push(note.text());
     }
 }
 

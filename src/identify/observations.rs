@@ -4,21 +4,20 @@
 //! registration) and K&C channel, and their exact Jacobian in the search
 //! variables.
 //!
-//! Sensitivities are exact: at an equilibrium `R(q, λ, p) = 0`, so
-//! `d(q, λ)/dp = -KKT⁻¹ ∂R/∂p` with the statics engine's own Newton matrix;
-//! `∂R/∂p` of a stiffness is the element's force column (linear in it), and of
-//! a geometric parameter a difference of the residual at the fixed state (no
-//! re-solve). The registration's columns are analytic.
+//! The sensitivities of the equilibria come from the statics service
+//! ([`crate::statics::sensitivity`]: implicit differentiation with each
+//! step's own factorisation, computed along the path as it is solved); the
+//! chain rule to the search variables and the registration's columns
+//! (analytic) are here. Force unknowns are set in place in one compiled
+//! problem; only geometric unknowns recompile it.
 
-use super::columns::{column, is_affine};
-use super::linalg::solve;
-use super::lsq::{LsqOptions, dparam, scale_of, to_param};
+use super::lsq::{LsqOptions, dparam, to_param};
 use super::measured::Measured;
 use super::{IdentifyError, Unknown};
 use crate::geom::{Mat3, Vec3, skew};
-use crate::model::{Model, values};
-use crate::statics::newton::{assemble, col_scale, kkt};
-use crate::statics::{self, Problem, State};
+use crate::model::{Model, PointLoad, values};
+use crate::statics::path::Simulator;
+use crate::statics::{CaseSensitivity, Parameter, Problem, State, StaticsError};
 use nalgebra::{DMatrix, DVector};
 
 /// The registration's search variables: a rotation vector in mrad and a
@@ -77,8 +76,20 @@ pub(super) enum Obs {
     },
 }
 
+/// The simulation at one point of the search: the compiled problem, the
+/// equilibrium of every step, the weighted residuals and each step's
+/// sensitivity to the unknowns.
+pub(super) struct Evaluation {
+    pub problem: Problem,
+    pub states: Vec<State>,
+    pub residuals: DVector<f64>,
+    pub sensitivities: Vec<CaseSensitivity>,
+}
+
 pub(super) struct Problemset<'a> {
     pub model: &'a Model,
+    /// `model` compiled once; the unknowns are set in it in place.
+    pub base: Problem,
     pub unknowns: &'a [Unknown],
     pub data: &'a Measured,
     pub obs: Vec<Vec<Obs>>,
@@ -111,12 +122,24 @@ impl Problemset<'_> {
         }
     }
 
-    fn model_at(&self, x: &DVector<f64>) -> Model {
-        let mut m = self.model.clone();
-        for (u, xi) in self.unknowns.iter().zip(x.iter()) {
-            u.set(&mut m, to_param(u, *xi));
+    /// The compiled problem at `x`: the base problem with the unknowns set
+    /// in place (the constraint analysis is not compiled again), or a
+    /// recompiled one when an unknown moves geometry.
+    fn problem_at(&self, x: &DVector<f64>) -> Result<Problem, IdentifyError> {
+        let err = |m: &Model, e: StaticsError| IdentifyError::new(e.message(m), e.elements.clone());
+        if self.unknowns.iter().any(|u| u.moves_geometry(self.model)) {
+            let mut m = self.model.clone();
+            for (u, xi) in self.unknowns.iter().zip(x.iter()) {
+                u.set(&mut m, to_param(u, *xi));
+            }
+            return Problem::new(&m).map_err(|e| err(&m, e));
         }
-        m
+        let mut p = self.base.clone();
+        for (u, xi) in self.unknowns.iter().zip(x.iter()) {
+            p.set_force_parameter(u, to_param(u, *xi))
+                .map_err(|e| err(self.model, e))?;
+        }
+        Ok(p)
     }
 
     /// The registration correction at `x` (identity without registration).
@@ -129,44 +152,58 @@ impl Problemset<'_> {
         }
     }
 
-    /// Solves every step (warm started) and returns the weighted residuals.
-    pub fn evaluate(
-        &self,
-        x: &DVector<f64>,
-        warm: &[State],
-    ) -> Result<(Problem, Vec<State>, DVector<f64>), IdentifyError> {
-        let m = self.model_at(x);
+    /// Solves every step (warm started) and returns the weighted residuals,
+    /// with each step's sensitivity to the unknowns (per internal unit).
+    pub fn evaluate(&self, x: &DVector<f64>, warm: &[State]) -> Result<Evaluation, IdentifyError> {
         let (rr, rt) = self.correction(x);
-        let problem =
-            Problem::new(&m).map_err(|e| IdentifyError::new(e.message(&m), e.elements.clone()))?;
-        let mut states = Vec::with_capacity(self.data.steps.len());
-        let mut res = Vec::new();
-        let mut prev = State::design(&m);
-        for (k, s) in self.data.steps.iter().enumerate() {
-            let start = warm.get(k).cloned().unwrap_or_else(|| prev.clone());
-            let eq = statics::solve(&problem, &s.loads, &start).map_err(|e| {
-                let names: Vec<String> = self
-                    .unknowns
-                    .iter()
-                    .zip(x.iter())
-                    .map(|(u, xi)| {
-                        format!(
-                            "{} = {:.4e}",
-                            u.label(),
-                            crate::units::to_boundary(to_param(u, *xi), u.dim)
-                        )
-                    })
-                    .collect();
-                IdentifyError::new(
+        let problem = self.problem_at(x)?;
+        let m = problem.model().clone();
+        let loads: Vec<&[PointLoad]> = self.data.steps.iter().map(|s| s.loads.as_slice()).collect();
+        // Each step starts from `warm[k]` when given (the previous iterate's
+        // solution at that step); the history follows the path.
+        let (run, sens) = Simulator::new().run_with_sensitivities(
+            &problem,
+            &loads,
+            &State::design(&m),
+            warm,
+            self.unknowns,
+        );
+        if let Some(e) = run.failure {
+            let names: Vec<String> = self
+                .unknowns
+                .iter()
+                .zip(x.iter())
+                .map(|(u, xi)| {
                     format!(
-                        "step {}: the model does not solve at the trial values ({}): {}",
-                        s.step,
-                        names.join(", "),
-                        e.message(&m)
-                    ),
-                    e.elements.clone(),
-                )
-            })?;
+                        "{} = {:.4e}",
+                        u.label(),
+                        crate::units::to_boundary(to_param(u, *xi), u.dim)
+                    )
+                })
+                .collect();
+            return Err(IdentifyError::new(
+                format!(
+                    "step {}: the model does not solve at the trial values ({}): {}",
+                    self.data.steps[e.case].step,
+                    names.join(", "),
+                    e.error.message(&m)
+                ),
+                e.error.elements.clone(),
+            ));
+        }
+        let sens = sens.map_err(|e| {
+            IdentifyError::new(
+                format!(
+                    "step {}: {}",
+                    self.data.steps.get(e.case).map_or(0, |s| s.step),
+                    e.error.message(&m)
+                ),
+                e.error.elements.clone(),
+            )
+        })?;
+        let mut res = Vec::new();
+        let states: Vec<State> = run.steps.into_iter().map(|e| e.state).collect();
+        for (k, st) in states.iter().enumerate() {
             for o in &self.obs[k] {
                 let w = 1.0 / self.sigma(o);
                 match *o {
@@ -175,7 +212,7 @@ impl Problemset<'_> {
                         design,
                         target,
                     } => {
-                        let (t, r) = eq.state.part_pose(crate::model::PartId(part as u32));
+                        let (t, r) = st.part_pose(crate::model::PartId(part as u32));
                         let p = t + r * design;
                         let y = rr * target + rt;
                         for c in 0..3 {
@@ -189,31 +226,34 @@ impl Problemset<'_> {
                         }
                     }
                     Obs::Kc { channel, target } => {
-                        res.push((kc_value(&m, &eq.state, channel) - target) * w)
+                        res.push((kc_value(&m, st, channel) - target) * w)
                     }
                 }
             }
-            prev = eq.state.clone();
-            states.push(eq.state);
         }
-        Ok((problem, states, DVector::from_vec(res)))
+        Ok(Evaluation {
+            problem,
+            states,
+            residuals: DVector::from_vec(res),
+            sensitivities: sens,
+        })
     }
 
     /// The weighted Jacobian of the residuals in the search variables (the
-    /// unknowns, then the registration's).
-    pub fn jacobian(
-        &self,
-        x: &DVector<f64>,
-        problem: &Problem,
-        states: &[State],
-    ) -> Result<DMatrix<f64>, IdentifyError> {
+    /// unknowns, then the registration's) at an evaluation.
+    pub fn jacobian(&self, x: &DVector<f64>, ev: &Evaluation) -> DMatrix<f64> {
         let nu = self.unknowns.len();
         let nx = nu + self.nr;
-        let n = problem.layout.n();
-        let length = problem.length;
-        let mut work = problem.model.clone();
-        let mut rows: Vec<DVector<f64>> = Vec::new();
+        let model = ev.problem.model();
         let reg_x = &x.as_slice()[nu..nx];
+        // d(parameter)/d(search variable) of each unknown.
+        let dp: Vec<f64> = self
+            .unknowns
+            .iter()
+            .zip(x.iter())
+            .map(|(u, xi)| dparam(u, *xi))
+            .collect();
+        let mut rows: Vec<DVector<f64>> = Vec::new();
         // The registration's three columns of one registered target.
         let reg_rows = |target: &Vec3, w: f64, rows: &mut [DVector<f64>]| {
             if self.nr == REG {
@@ -225,62 +265,7 @@ impl Problemset<'_> {
                 }
             }
         };
-        let fail = |what: &str, step: usize| {
-            IdentifyError::new(
-                format!(
-                    "step {step}: the equilibrium is singular, so its sensitivity to the unknowns is undefined ({what})"
-                ),
-                vec![],
-            )
-        };
-        for (k, st) in states.iter().enumerate() {
-            let step = self.data.steps[k].step;
-            let loads = &self.data.steps[k].loads;
-            let sys = assemble(problem, st, loads)
-                .map_err(|e| IdentifyError::new(e.message(&work), e.elements.clone()))?;
-            let a = kkt(&sys);
-            let m = sys.jac.nrows();
-            let mut b = DMatrix::zeros(n + m, nu);
-            for (i, u) in self.unknowns.iter().enumerate() {
-                let dp = dparam(u, x[i]);
-                if is_affine(&work, u) {
-                    let p = to_param(u, x[i]);
-                    let c = column(&mut work, &problem.layout, st, u, p)?;
-                    for r in 0..n {
-                        b[(r, i)] = -c[r] * col_scale(r, length) * dp;
-                    }
-                } else {
-                    // Geometry moves: central difference of the residual at this state.
-                    let h = 1e-4 * scale_of(u).max(1.0);
-                    let p = to_param(u, x[i]);
-                    let at = |v: f64| -> Result<(DVector<f64>, DVector<f64>), IdentifyError> {
-                        let mut mm = problem.model.clone();
-                        u.set(&mut mm, v);
-                        let pr = Problem::new(&mm)
-                            .map_err(|e| IdentifyError::new(e.message(&mm), e.elements.clone()))?;
-                        if pr.kept != problem.kept {
-                            return Err(fail(
-                                "the redundant constraints change with the parameter",
-                                step,
-                            ));
-                        }
-                        let s = assemble(&pr, st, loads)
-                            .map_err(|e| IdentifyError::new(e.message(&mm), e.elements.clone()))?;
-                        Ok((s.r, s.phi))
-                    };
-                    let (rp, pp) = at(p + h)?;
-                    let (rm, pm) = at(p - h)?;
-                    for r in 0..n {
-                        b[(r, i)] = -(rp[r] - rm[r]) / (2.0 * h) * dp;
-                    }
-                    for r in 0..m {
-                        b[(n + r, i)] = -(pp[r] - pm[r]) / (2.0 * h) * dp;
-                    }
-                }
-            }
-            let sol = solve(&a, &b).ok_or_else(|| fail("singular Newton matrix", step))?;
-            // dq for each unknown, unscaled.
-            let dq = DMatrix::from_fn(n, nu, |r, c| sol[(r, c)] * col_scale(r, length));
+        for (k, (st, sens)) in ev.states.iter().zip(&ev.sensitivities).enumerate() {
             for o in &self.obs[k] {
                 let w = 1.0 / self.sigma(o);
                 match *o {
@@ -291,18 +276,10 @@ impl Problemset<'_> {
                     } => {
                         let mut three = vec![DVector::zeros(nx); 3];
                         reg_rows(&target, w, &mut three);
-                        if let Some(blk) = problem.layout.block_of_part[part] {
-                            let (_, rot) = st.part_pose(crate::model::PartId(part as u32));
-                            let arm = rot * design;
-                            let g: Mat3 = -skew(&arm);
-                            for (c, row) in three.iter_mut().enumerate() {
-                                for i in 0..nu {
-                                    let mut v = dq[(6 * blk + c, i)];
-                                    for a in 0..3 {
-                                        v += g[(c, a)] * dq[(6 * blk + 3 + a, i)];
-                                    }
-                                    row[i] = v * w;
-                                }
+                        let d = sens.point(st, crate::model::PartId(part as u32), &design);
+                        for (c, row) in three.iter_mut().enumerate() {
+                            for i in 0..nu {
+                                row[i] = d[(c, i)] * dp[i] * w;
                             }
                         }
                         rows.extend(three);
@@ -313,18 +290,15 @@ impl Problemset<'_> {
                         rows.extend(three);
                     }
                     Obs::Kc { channel, .. } => {
-                        // Explicit function of the state: difference along each motion.
+                        // An explicit function of the state: its derivative along each motion.
+                        let d = sens.output(&ev.problem, st, |s| kc_value(model, s, channel));
                         let mut row = DVector::zeros(nx);
                         for i in 0..nu {
-                            let h = 1e-6 / dq.column(i).amax().max(1e-300);
-                            let mut sp = st.clone();
-                            let mut sm = st.clone();
-                            let d = DVector::from_fn(n, |r, _| dq[(r, i)] * h);
-                            sp.apply(&problem.layout, &d);
-                            sm.apply(&problem.layout, &(-d));
-                            let v = (kc_value(&work, &sp, channel) - kc_value(&work, &sm, channel))
-                                / (2.0 * h);
-                            row[i] = if v.is_finite() { v * w } else { 0.0 };
+                            row[i] = if d[i].is_finite() {
+                                d[i] * dp[i] * w
+                            } else {
+                                0.0
+                            };
                         }
                         rows.push(row);
                     }
@@ -335,7 +309,7 @@ impl Problemset<'_> {
         for (r, row) in rows.iter().enumerate() {
             j.set_row(r, &row.transpose());
         }
-        Ok(j)
+        j
     }
 }
 
@@ -414,7 +388,7 @@ mod tests {
             crate::check::check_str("m.axle", include_str!("../../examples/mcpherson.axle"));
         let m = c.model.expect("checks");
         let set = m.load_set_named("thesis_table_5_1").expect("set");
-        let eqs = statics::solve_set(&m, set).expect("solves");
+        let eqs = crate::statics::solve_set(&m, set).expect("solves");
         let steps: Vec<(State, Vec<_>)> = eqs
             .into_iter()
             .enumerate()
@@ -439,6 +413,7 @@ mod tests {
         let g = m.ground().expect("ground");
         let ps = Problemset {
             model: &m,
+            base: Problem::new(&m).expect("compiles"),
             unknowns: &u,
             data: &data,
             obs: data
@@ -474,16 +449,17 @@ mod tests {
             Some(ui) => to_search(ui, ui.initial),
             None => reg[i - u.len()],
         });
-        let (p, st, _) = ps.evaluate(&x, &[]).expect("solves");
-        let j = ps.jacobian(&x, &p, &st).expect("jacobian");
+        let ev = ps.evaluate(&x, &[]).expect("solves");
+        let j = ps.jacobian(&x, &ev);
+        let st = &ev.states;
         for i in 0..u.len() + REG {
             let h = 1e-5;
             let mut xp = x.clone();
             xp[i] += h;
             let mut xm = x.clone();
             xm[i] -= h;
-            let (_, _, rp) = ps.evaluate(&xp, &st).expect("solves");
-            let (_, _, rm) = ps.evaluate(&xm, &st).expect("solves");
+            let rp = ps.evaluate(&xp, st).expect("solves").residuals;
+            let rm = ps.evaluate(&xm, st).expect("solves").residuals;
             let fd = (rp - rm) / (2.0 * h);
             let err = (&fd - j.column(i)).amax();
             assert!(

@@ -9,11 +9,12 @@
 //! values: the applied wheel load.
 
 use super::measured::Measured;
-use super::{IdentifyError, Method};
+use super::{IdentifyError, IdentifyErrorKind, Method};
 use crate::geom::Vec3;
 use crate::kc::{KcRow, WheelQuantities, wheel_quantities};
 use crate::model::{ElementId, Model, Wheel, WheelId};
-use crate::statics::{self, Problem, State};
+use crate::statics::path;
+use crate::statics::{Problem, State};
 
 /// Names of the load directions, by force component (fx, fy, fz).
 const DIRECTIONS: [&str; 3] = ["longitudinal", "lateral", "vertical"];
@@ -118,24 +119,24 @@ fn simulate(
     which: &str,
 ) -> Result<Vec<WheelQuantities>, IdentifyError> {
     let problem = Problem::new(model)
-        .map_err(|e| IdentifyError::new(e.message(model), e.elements.clone()))?;
-    let mut prev = State::design(model);
-    let mut out = Vec::with_capacity(data.steps.len());
-    for s in &data.steps {
-        let eq = statics::solve(&problem, &s.loads, &prev).map_err(|e| {
-            IdentifyError::new(
-                format!(
-                    "report: the {which} model does not solve at step {}: {}",
-                    s.step,
-                    e.message(model)
-                ),
-                e.elements.clone(),
-            )
-        })?;
-        out.push(wheel_quantities(model, &eq.state, w));
-        prev = eq.state;
+        .map_err(|e| IdentifyError::statics(format!("report: the {which} model"), e, model))?;
+    let run = path::simulate(
+        &problem,
+        data.steps.iter().map(|s| &s.loads),
+        &State::design(model),
+    );
+    if let Some(e) = run.failure {
+        let context = format!(
+            "report: the {which} model does not solve at step {}",
+            data.steps[e.case].step
+        );
+        return Err(IdentifyError::statics(context, e.error, model));
     }
-    Ok(out)
+    Ok(run
+        .steps
+        .iter()
+        .map(|eq| wheel_quantities(model, &eq.state, w))
+        .collect())
 }
 
 /// The steps of each load direction: those loaded along `c` alone (besides a
@@ -201,7 +202,8 @@ pub fn curves(
     data: &Measured,
 ) -> Result<Vec<Curves>, IdentifyError> {
     let Some(w) = initial.wheels.first() else {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Report,
             "the report plots toe and camber of a wheel, and the model has none (declare a `wheel`)",
             vec![],
         ));
@@ -211,7 +213,8 @@ pub fn curves(
         .iter()
         .all(|(f, t)| f.amax() == 0.0 && t.amax() == 0.0)
     {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Report,
             format!(
                 "the report plots against the load on wheel `{}`, and no step loads its contact marker",
                 w.name
@@ -223,7 +226,8 @@ pub fn curves(
         .map(|k| measured_row(initial, data, k, w))
         .collect();
     if measured.iter().all(Option::is_none) {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Report,
             format!(
                 "the report needs the measured toe and camber: give --kc, or landmarks on the part of wheel `{}`",
                 w.name

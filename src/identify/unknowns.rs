@@ -7,7 +7,37 @@
 use super::IdentifyError;
 use crate::model::address::Address;
 use crate::model::{AxisLaw, Bounds, BushingId, ElementId, Model, SpringId, SpringLaw, Symmetry};
+use crate::statics::Parameter;
 use crate::units::Dim;
+
+/// An unknown is a parameter of the statics' sensitivity service: its
+/// addresses move together.
+impl Parameter for Unknown {
+    fn value(&self, model: &Model) -> f64 {
+        self.addrs[0].get(model)
+    }
+
+    fn set_value(&self, model: &mut Model, value: f64) {
+        self.set(model, value);
+    }
+
+    fn moves_geometry(&self, model: &Model) -> bool {
+        self.addrs.iter().any(|a| a.moves_geometry(model))
+    }
+
+    fn element(&self) -> ElementId {
+        self.addrs[0].element()
+    }
+
+    fn force_element(&self, model: &Model) -> Option<ElementId> {
+        // A tied pair (k_x = k_y) changes one bushing.
+        let e = self.addrs[0].force_element(model)?;
+        self.addrs
+            .iter()
+            .all(|a| a.force_element(model) == Some(e))
+            .then_some(e)
+    }
+}
 
 /// One unknown: one or more addresses that always share a value.
 #[derive(Debug, Clone, PartialEq)]

@@ -5,7 +5,8 @@
 
 use crate::emit::EmitError;
 use crate::model::{LoadSetId, Model};
-use crate::statics::{Problem, State, solve};
+use crate::statics::path::run_set;
+use crate::statics::{Problem, State};
 
 /// Per case, per wheel (model order): the wheel-centre z at equilibrium, mm.
 pub fn centre_heights(m: &Model, set: LoadSetId) -> Result<Vec<Vec<f64>>, EmitError> {
@@ -16,22 +17,23 @@ pub fn centre_heights(m: &Model, set: LoadSetId) -> Result<Vec<Vec<f64>>, EmitEr
         detail: e,
     };
     let problem = Problem::new(m).map_err(|e| failed("(model)", e.message(m)))?;
-    let mut state = State::design(m);
-    let mut out = Vec::new();
-    for (k, case) in ls.cases.iter().enumerate() {
-        let eq = solve(&problem, &m.point_loads(set, k), &state)
-            .map_err(|e| failed(&case.name, e.message(m)))?;
-        state = eq.state;
-        out.push(
+    let run = run_set(&problem, set, &State::design(m));
+    if let Some(e) = &run.failure {
+        let case = ls.cases.get(e.case).map_or("?", |c| c.name.as_str());
+        return Err(failed(case, e.error.message(m)));
+    }
+    Ok(run
+        .steps
+        .iter()
+        .map(|eq| {
             m.wheels
                 .iter()
                 .map(|w| {
                     let c = m.marker(w.centre);
-                    let (x, r) = state.part_pose(c.part);
+                    let (x, r) = eq.state.part_pose(c.part);
                     (x + r * c.origin()).z
                 })
-                .collect(),
-        );
-    }
-    Ok(out)
+                .collect()
+        })
+        .collect())
 }

@@ -6,7 +6,8 @@
 
 use crate::model::address::Address;
 use crate::model::{MarkerId, Model, PointLoad};
-use crate::statics::{Problem, State, solve};
+use crate::statics::path::solve_case;
+use crate::statics::{Problem, State};
 use crate::statics::{StaticsError, StaticsErrorKind};
 
 /// Height error below which the trim has converged, mm.
@@ -38,7 +39,7 @@ fn height(
     let mut m = model.clone();
     address.set(&mut m, value);
     let problem = Problem::new(&m)?;
-    let eq = solve(&problem, loads, &State::design(&m))?;
+    let eq = solve_case(&problem, loads, &State::design(&m))?;
     let mk = m.marker(marker);
     let (x, r) = eq.state.part_pose(mk.part);
     Ok((x + r * mk.origin()).z)

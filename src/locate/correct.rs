@@ -77,7 +77,7 @@ pub fn correct(
     for k in 0..MAX_PASSES {
         let iterations = k + 1;
         let problem = Problem::new(&m)?;
-        let eq = statics::solve(&problem, loads, &state)?;
+        let eq = statics::path::solve_case(&problem, loads, &state)?;
         state = eq.state;
         let mut largest: f64 = 0.0;
         let elements: Vec<(ElementId, MarkerId, MarkerId, bool)> = m
@@ -140,7 +140,7 @@ pub fn correct(
         // reaction (more unknowns than equilibrium equations), so repeated passes
         // can wander: keep the pass whose equilibrium matches best.
         let problem = Problem::new(&m)?;
-        let eq = statics::solve(&problem, loads, &state)?;
+        let eq = statics::path::solve_case(&problem, loads, &state)?;
         let fit = misfit(&m, &eq.state, measured);
         let improved = best.as_ref().is_none_or(|b| fit < b.0 * (1.0 - 1e-3));
         if improved {

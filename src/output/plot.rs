@@ -118,13 +118,62 @@ const COLOURS: [RGBColor; 4] = [
 /// One line of every panel: a legend label, a colour, the rows it joins in
 /// order, and whether each row is also marked by a dot (measured points).
 struct Line<'a> {
-    label: &'a str,
+    label: String,
+    /// The first line of its label: the one the legend lists.
+    in_legend: bool,
     colour: RGBColor,
     rows: Vec<&'a KcRow>,
     dots: bool,
 }
 
-/// The SVG text of the plots of a K&C path.
+/// The swept load of a row: what the rig drives, whose direction of change
+/// tells loading from unloading.
+fn load_of(sweep: Sweep, r: &KcRow) -> f64 {
+    match sweep {
+        Sweep::Bump => r.force[2],
+        Sweep::Force(c) if c < 3 => r.force[c],
+        Sweep::Force(c) => r.torque[(c - 3).min(2)],
+        // Cases in order: one run, never "unloading".
+        Sweep::Case => r.step as f64,
+    }
+}
+
+/// The rows split where the swept load turns back: runs of one direction
+/// (`true`: increasing), each starting at the turning row of the previous
+/// one so the curve stays connected. A path that never turns is one run.
+fn runs<'a>(rows: &[&'a KcRow], sweep: Sweep) -> Vec<(bool, Vec<&'a KcRow>)> {
+    let mut out: Vec<(bool, Vec<&KcRow>)> = Vec::new();
+    for (k, r) in rows.iter().enumerate() {
+        let Some(prev) = k.checked_sub(1).map(|p| rows[p]) else {
+            continue;
+        };
+        let d = load_of(sweep, r) - load_of(sweep, prev);
+        if d == 0.0 {
+            if let Some(last) = out.last_mut() {
+                last.1.push(r);
+            }
+            continue;
+        }
+        let up = d > 0.0;
+        match out.last_mut() {
+            Some(last) if last.0 == up => last.1.push(r),
+            _ => out.push((up, vec![prev, r])),
+        }
+    }
+    if out.is_empty() {
+        out.push((true, rows.to_vec()));
+    }
+    out
+}
+
+/// Loading and unloading branches of a K&C path that turns back:
+/// the legend word of each direction.
+pub const BRANCH_LABELS: [&str; 2] = ["load increasing", "load decreasing"];
+
+/// The SVG text of the plots of a K&C path. A path that turns back (a sweep
+/// up and down) is drawn as one polyline per direction, each direction with
+/// its colour and legend entry, so that hysteresis (dry friction) shows as
+/// two branches.
 pub fn svg(title: &str, rows: &[KcRow], sweep: Sweep) -> Result<String, String> {
     let mut wheels: Vec<&str> = Vec::new();
     for r in rows {
@@ -132,17 +181,29 @@ pub fn svg(title: &str, rows: &[KcRow], sweep: Sweep) -> Result<String, String> 
             wheels.push(&r.wheel);
         }
     }
-    let lines: Vec<Line> = wheels
-        .iter()
-        .enumerate()
-        .map(|(k, w)| Line {
-            label: w,
-            colour: COLOURS[k % COLOURS.len()],
-            rows: rows.iter().filter(|r| r.wheel == *w).collect(),
-            dots: false,
-        })
-        .collect();
-    draw(title, &lines, sweep, wheels.len() > 1)
+    let mut lines: Vec<Line> = Vec::new();
+    for (k, w) in wheels.iter().enumerate() {
+        let mine: Vec<&KcRow> = rows.iter().filter(|r| r.wheel == *w).collect();
+        let rs = runs(&mine, sweep);
+        let turns = rs.len() > 1;
+        for (up, run) in rs {
+            let label = match (turns, wheels.len() > 1) {
+                (false, _) => w.to_string(),
+                (true, false) => BRANCH_LABELS[usize::from(!up)].to_string(),
+                (true, true) => format!("{w}, {}", BRANCH_LABELS[usize::from(!up)]),
+            };
+            let first = !lines.iter().any(|l| l.label == label);
+            lines.push(Line {
+                label,
+                in_legend: first,
+                colour: COLOURS[(2 * k + usize::from(turns && !up)) % COLOURS.len()],
+                rows: run,
+                dots: false,
+            });
+        }
+    }
+    let legend = lines.iter().filter(|l| l.in_legend).count() > 1;
+    draw(title, &lines, sweep, legend)
 }
 
 /// The legend labels of [`overlay_svg`], in drawing order.
@@ -163,7 +224,8 @@ pub fn overlay_svg(
         .zip(OVERLAY_LABELS)
         .enumerate()
         .map(|(k, (rows, label))| Line {
-            label,
+            label: label.to_string(),
+            in_legend: true,
             colour: COLOURS[k],
             rows: rows.iter().collect(),
             dots: k == 0,
@@ -228,9 +290,9 @@ fn draw(title: &str, lines: &[Line], sweep: Sweep, legend: bool) -> Result<Strin
                 let series = chart
                     .draw_series(LineSeries::new(pts, colour.stroke_width(2)))
                     .map_err(|e| e.to_string())?;
-                if legend {
+                if legend && line.in_legend {
                     series
-                        .label(line.label)
+                        .label(line.label.as_str())
                         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour));
                 }
             }

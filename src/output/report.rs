@@ -2,10 +2,11 @@
 //! about bushings driven outside the range of their projected angles.
 
 use crate::kc::{WheelQuantities, wheel_quantities};
-use crate::model::{BushingId, ElementId, Model, SpringId};
+use crate::model::{BushingId, ElementId, FrictionId, FrictionMotion, Model, SpringId};
 use crate::statics::coords::Layout;
 use crate::statics::forces::{bushing, spring};
-use crate::statics::{Equilibrium, State};
+use crate::statics::friction;
+use crate::statics::{Equilibrium, State, StaticsError};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -34,6 +35,18 @@ pub struct SpringReport {
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FrictionReport {
+    /// Slide along z_J (mm), or rotation about z_J (deg).
+    pub slide: f64,
+    /// Force on I along z_J (N), or torque about z_J (N·mm).
+    pub force: f64,
+    /// Committed slip offset `s_p` (mm or deg).
+    pub slip_offset: f64,
+    /// `stick` or `slip` (at its limit).
+    pub state: &'static str,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CaseReport {
     pub name: String,
     pub step: usize,
@@ -43,7 +56,38 @@ pub struct CaseReport {
     pub wheels: BTreeMap<String, WheelQuantities>,
     pub bushings: BTreeMap<String, BushingReport>,
     pub springs: BTreeMap<String, SpringReport>,
+    /// Absent when the model has no friction (keeps older reports unchanged).
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub frictions: BTreeMap<String, FrictionReport>,
     pub substeps: usize,
+}
+
+/// Every friction element at a converged (committed) state.
+pub fn friction_reports(model: &Model, st: &State) -> BTreeMap<String, FrictionReport> {
+    let layout = Layout::new(model);
+    model
+        .frictions
+        .iter()
+        .enumerate()
+        .map(|(k, f)| {
+            let id = FrictionId(k as u32);
+            let e = friction::evaluate(model, &layout, st, id);
+            let sp = st.slip_offset(model, id);
+            let unit = match f.motion {
+                FrictionMotion::Slide => 1.0,
+                FrictionMotion::Rotation => 1.0f64.to_degrees(),
+            };
+            (
+                f.name.clone(),
+                FrictionReport {
+                    slide: e.coordinate * unit,
+                    force: e.force,
+                    slip_offset: sp * unit,
+                    state: friction::committed_state(f, e.force).word(),
+                },
+            )
+        })
+        .collect()
 }
 
 /// The report of one solved case (`step` counts from 1).
@@ -102,7 +146,43 @@ pub fn case_report(model: &Model, name: &str, step: usize, eq: &Equilibrium) -> 
         wheels,
         bushings,
         springs,
+        frictions: friction_reports(model, st),
         substeps: eq.substeps,
+    }
+}
+
+/// The case a path stopped at: what `solve` and `kc` print after the
+/// converged cases (the diagnostic itself goes to stderr).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FailedCase {
+    pub name: String,
+    pub step: usize,
+    pub converged: bool,
+    /// The error code (`E10xx`) and message, naming the element responsible.
+    pub code: &'static str,
+    pub error: String,
+    /// The elements responsible, as the model names them.
+    pub elements: Vec<String>,
+}
+
+impl FailedCase {
+    pub fn new(model: &Model, name: &str, step: usize, e: &StaticsError) -> FailedCase {
+        FailedCase {
+            name: name.to_string(),
+            step,
+            converged: false,
+            code: e.kind.code(),
+            error: e.message(model),
+            elements: e.elements.iter().map(|id| model.describe(*id)).collect(),
+        }
+    }
+
+    /// The one line a table prints for it.
+    pub fn line(&self) -> String {
+        format!(
+            "case {} (step {}): no equilibrium ({}): {}\n",
+            self.name, self.step, self.code, self.error
+        )
     }
 }
 

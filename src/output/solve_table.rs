@@ -1,9 +1,9 @@
 //! `solve --format table`: one block per case, for an engineer at a terminal:
 //! the wheels first (what the K&C rig measures), then the bushings (where the
-//! compliance comes from), springs, and the part displacements.
+//! compliance comes from), springs, frictions, and the part displacements.
 
 use super::columns::{Cell, Col, col, render};
-use crate::output::report::CaseReport;
+use crate::output::report::{CaseReport, FailedCase};
 
 const WHEEL: [Col; 8] = [
     col("wheel", "", 0),
@@ -36,6 +36,14 @@ const SPRING: [Col; 3] = [
     col("spring", "", 0),
     col("length", "mm", 3),
     col("force", "N", 1),
+];
+
+const FRICTION: [Col; 5] = [
+    col("friction", "", 0),
+    col("slide", "mm", 4),
+    col("force", "N", 2),
+    col("slip_offset", "mm", 4),
+    col("state", "", 0),
 ];
 
 const PART: [Col; 5] = [
@@ -100,6 +108,24 @@ pub fn case(c: &CaseReport) -> String {
         out += &render(&SPRING, &rows, "  ");
         out += "  (force: tension +)\n";
     }
+    if !c.frictions.is_empty() {
+        let rows: Vec<Vec<Cell>> = c
+            .frictions
+            .iter()
+            .map(|(n, f)| {
+                vec![
+                    text(n),
+                    Cell::Num(f.slide),
+                    Cell::Num(f.force),
+                    Cell::Num(f.slip_offset),
+                    text(f.state),
+                ]
+            })
+            .collect();
+        out += "\n";
+        out += &render(&FRICTION, &rows, "  ");
+        out += "  (slide of I along z_J and force on I; a rotation friction: deg and N*mm)\n";
+    }
     if !c.parts.is_empty() {
         let rows: Vec<Vec<Cell>> = c
             .parts
@@ -120,16 +146,29 @@ pub fn case(c: &CaseReport) -> String {
     out
 }
 
-/// The tables of all cases, separated by blank lines.
-pub fn cases(model: &str, set: &str, cases: &[CaseReport]) -> String {
+/// The tables of all cases, separated by blank lines; a path that stopped
+/// ends with the line of the case it stopped at.
+pub fn cases(model: &str, set: &str, cases: &[CaseReport], failed: Option<&FailedCase>) -> String {
     let n = cases.len();
-    let mut out = format!(
-        "model {model}, load set {set}: {n} case{}\n",
-        if n == 1 { "" } else { "s" }
-    );
+    let mut out = match failed {
+        None => format!(
+            "model {model}, load set {set}: {n} case{}\n",
+            if n == 1 { "" } else { "s" }
+        ),
+        Some(f) => format!(
+            "model {model}, load set {set}: {n} case{} converged, stopped at case {} (step {})\n",
+            if n == 1 { "" } else { "s" },
+            f.name,
+            f.step
+        ),
+    };
     for c in cases {
         out += "\n";
         out += &case(c);
+    }
+    if let Some(f) = failed {
+        out += "\n";
+        out += &f.line();
     }
     out
 }

@@ -86,6 +86,18 @@ impl State {
             .unwrap_or((Vec3::zeros(), Mat3::identity()))
     }
 
+    /// This state's element history with the configuration (poses,
+    /// multipliers and the loads they balanced) of `guess`: the start of a
+    /// case warm-started from another solution of it, whose path-dependent
+    /// elements still continue from this, the path's previous, state.
+    pub fn guessed(&self, guess: &State) -> State {
+        let mut s = self.clone();
+        s.poses.clone_from(&guess.poses);
+        s.lambda.clone_from(&guess.lambda);
+        s.loads.clone_from(&guess.loads);
+        s
+    }
+
     /// The loads this state is in equilibrium with.
     pub fn loads(&self) -> &[PointLoad] {
         &self.loads

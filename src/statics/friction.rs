@@ -54,7 +54,7 @@ pub struct FrictionEval {
 pub fn law(kf: f64, limit: f64, s: f64, sp: f64) -> (f64, f64, f64, FrictionState) {
     let trial = -kf * (s - sp);
     // A zero stiffness is rejected by the checker; it transmits nothing.
-    if !(kf > 0.0) || trial.abs() <= limit {
+    if kf.is_nan() || kf <= 0.0 || trial.abs() <= limit {
         return (trial, -kf.max(0.0), sp, FrictionState::Stick);
     }
     let f = limit.copysign(trial);
@@ -178,6 +178,16 @@ pub fn commit(model: &Model, layout: &Layout, state: &mut State) {
         };
         let (.., sp, _) = law(f.stiffness.value, f.limit.value, s, state.slip[k]);
         state.slip[k] = sp;
+    }
+}
+
+/// Stick or slip at a committed state, from its force: a step that slipped
+/// leaves the force at the limit (to rounding), a sticking one inside it.
+pub fn committed_state(f: &Friction, force: f64) -> FrictionState {
+    if force.abs() >= f.limit.value * (1.0 - 1e-9) {
+        FrictionState::Slip
+    } else {
+        FrictionState::Stick
     }
 }
 
@@ -398,7 +408,7 @@ mod tests {
             // Equilibrium of the slider: F - k x + f = 0.
             assert!((fz - 10.0 * x(&st) + e.force).abs() < 1e-6, "step {n}");
             if fz == 500.0 {
-                if n < 11 || n > 31 {
+                if !(11..=31).contains(&n) {
                     up.push(x(&st))
                 } else {
                     down.push(x(&st))

@@ -5,7 +5,8 @@
 //! Layout: [`coords`] (6 coordinates per moving part, rotation increments by
 //! Rodrigues), [`wrench`] (the one generalised-force shape every element reduces
 //! to), [`constraint`] (joint primitives), [`forces`] (bushings, springs, stops,
-//! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`path`].
+//! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`path`] (the
+//! one load-path simulator), [`sensitivity`] (derivatives of equilibria).
 
 pub mod compliance;
 pub mod constraint;
@@ -18,6 +19,7 @@ pub mod mobility;
 pub mod newton;
 pub mod path;
 pub mod redundancy;
+pub mod sensitivity;
 #[cfg(test)]
 mod testkit;
 pub mod wrench;
@@ -27,6 +29,7 @@ pub use coords::State;
 pub use error::{StaticsError, StaticsErrorKind};
 pub use mobility::{Mobility, Motion};
 pub use redundancy::RedundantEquation;
+pub use sensitivity::{CaseSensitivity, Parameter};
 
 use crate::geom::Vec3;
 use crate::model::{ElementId, JointId, LoadSetId, Model, PointLoad};
@@ -444,30 +447,14 @@ fn not_converged(p: &Problem, st: &State, loads: &[PointLoad], force: f64) -> St
     )
 }
 
-/// Solves every case of a load set in order, each from the previous state.
+/// Solves every case of a load set in order, each from the previous state
+/// (the [`path`] simulator on a freshly compiled problem).
 pub fn solve_set(model: &Model, set: LoadSetId) -> Result<Vec<Equilibrium>, StaticsError> {
-    let Some(ls) = model.load_sets.get(set.index()) else {
-        return Err(StaticsError::new(
-            StaticsErrorKind::BadInput,
-            vec![],
-            format!("load set #{} does not exist", set.0),
-        ));
-    };
+    let cases = path::set_loads(model, set).map_err(|e| e.error)?;
     let problem = Problem::new(model)?;
-    let mut state = State::design(model);
-    let mut out = Vec::with_capacity(ls.cases.len());
-    let mut buffers = None;
-    for case in 0..ls.cases.len() {
-        let eq = solve_reusing(
-            &problem,
-            &model.point_loads(set, case),
-            &state,
-            &mut buffers,
-        )?;
-        state = eq.state.clone();
-        out.push(eq);
-    }
-    Ok(out)
+    path::simulate(&problem, &cases, &State::design(model))
+        .into_result()
+        .map_err(|e| e.error)
 }
 
 /// Mobility of the model at the design configuration (for the checker).

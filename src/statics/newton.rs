@@ -344,8 +344,13 @@ pub(crate) fn newton(
         sv.factorizations += 1;
         let biggest = sv.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if (!solved || biggest > 1e3 * p.length)
-            && let Some(e) = singular_direction(p, &sv.ws.matrix())
+            && let Some(mut e) = singular_direction(p, &sv.ws.matrix())
         {
+            // A slipping friction adds no stiffness along its slide: when that
+            // leaves a motion free, it is responsible too.
+            let slipping = super::friction::near_limit(&p.model, &p.layout, st);
+            e.elements
+                .extend(slipping.into_iter().map(ElementId::Friction));
             return Err(fatal(e));
         }
         if !solved {

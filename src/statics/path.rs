@@ -1,9 +1,25 @@
-//! Solving a load set along its cases in order, each case from the previous
-//! equilibrium (`interfaces.md`, `solve`): the common loop of `solve`, `kc`
-//! and the benchmarks.
+//! The one load-path simulator (`interfaces.md`, `solve`): solve the cases of a
+//! path in order, each from the previous converged [`State`] (poses,
+//! multipliers, the loads it balanced, and the history of path-dependent
+//! elements), with load sub-stepping inside a case when a full step fails.
+//!
+//! Every caller goes through it: `solve`, `kc`, identification, `correct`,
+//! the `.lcf` heights, trim, the synthetic-data writers, the benches. A
+//! [`Simulator`] keeps one solver (buffers and last factorisation) across the
+//! cases of a path, so a case starts with the tangent at the previous
+//! equilibrium as a linear predictor, and across the paths a caller runs with
+//! it (identification iterates), so the buffers are allocated once.
+//!
+//! A caller may give a *guess* per case (identification warm-starts case `k`
+//! from the previous iterate's solution at case `k`): the guess supplies the
+//! configuration Newton starts from, while the element history always comes
+//! from the path's own previous case, so path-dependent physics is the same
+//! as along a cold path.
 
-use super::{Equilibrium, Problem, State, StaticsError, StaticsErrorKind, solve};
-use crate::model::LoadSetId;
+use super::newton::{Solver, Workspace};
+use super::sensitivity::{self, CaseSensitivity, Parameter};
+use super::{Equilibrium, Problem, State, StaticsError, StaticsErrorKind, solve_reusing};
+use crate::model::{LoadSetId, Model, PointLoad};
 
 /// A failure at one case of a path.
 #[derive(Debug, Clone, PartialEq)]
@@ -11,6 +27,202 @@ pub struct PathError {
     /// 0-based index of the case that failed.
     pub case: usize,
     pub error: StaticsError,
+}
+
+/// What a path produced: the equilibria of the cases that converged, in
+/// order, and the failure that stopped it (the cases after it were not tried).
+#[derive(Debug, Clone)]
+pub struct PathRun {
+    pub steps: Vec<Equilibrium>,
+    pub failure: Option<PathError>,
+}
+
+impl PathRun {
+    /// Every case's equilibrium, or the failure (dropping the converged cases).
+    pub fn into_result(self) -> Result<Vec<Equilibrium>, PathError> {
+        match self.failure {
+            None => Ok(self.steps),
+            Some(e) => Err(e),
+        }
+    }
+}
+
+/// The loads of every case of a load set, in order.
+pub fn set_loads(model: &Model, set: LoadSetId) -> Result<Vec<Vec<PointLoad>>, PathError> {
+    let Some(ls) = model.load_sets.get(set.index()) else {
+        let error = StaticsError::new(
+            StaticsErrorKind::BadInput,
+            vec![],
+            format!("load set #{} does not exist", set.0),
+        );
+        return Err(PathError { case: 0, error });
+    };
+    Ok((0..ls.cases.len())
+        .map(|k| model.point_loads(set, k))
+        .collect())
+}
+
+/// A load-path simulator: one solver kept across the cases of every path it runs.
+#[derive(Default)]
+pub struct Simulator {
+    solver: Option<Solver>,
+}
+
+impl std::fmt::Debug for Simulator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Simulator").finish_non_exhaustive()
+    }
+}
+
+impl Simulator {
+    pub fn new() -> Simulator {
+        Simulator::default()
+    }
+
+    /// Solves `cases` in order from `start`. Case `k` starts from the previous
+    /// case's converged state, or, when `guesses` has an entry `k`, from that
+    /// guess's configuration with the previous case's history
+    /// ([`State::guessed`]). Stops at the first case that fails.
+    pub fn run<L: AsRef<[PointLoad]>>(
+        &mut self,
+        problem: &Problem,
+        cases: impl IntoIterator<Item = L>,
+        start: &State,
+        guesses: &[State],
+    ) -> PathRun {
+        self.walk(problem, cases, start, guesses, |_, _, _| Ok(()))
+    }
+
+    /// As [`Simulator::run`], with the derivative of every converged case
+    /// with respect to `params` ([`super::sensitivity`]): by implicit
+    /// differentiation with each case's own factorisation, or, for a model
+    /// with path-dependent elements (friction), by central differences of
+    /// whole paths. The sensitivities stop where the path or their own
+    /// computation (a singular equilibrium) failed, with that failure.
+    pub fn run_with_sensitivities<L: AsRef<[PointLoad]>, P: Parameter>(
+        &mut self,
+        problem: &Problem,
+        cases: &[L],
+        start: &State,
+        guesses: &[State],
+        params: &[P],
+    ) -> (PathRun, Result<Vec<CaseSensitivity>, PathError>) {
+        if !problem.model().frictions.is_empty() {
+            let run = self.run(problem, cases, start, guesses);
+            if let Some(f) = run.failure.clone() {
+                return (run, Err(f));
+            }
+            let s = sensitivity::path_by_differences(problem, cases, start, params)
+                .map_err(|error| PathError { case: 0, error });
+            return (run, s);
+        }
+        let values: Vec<f64> = params.iter().map(|p| p.value(problem.model())).collect();
+        let mut work = problem.clone();
+        let mut ws = Workspace::new(problem);
+        let mut out = Vec::with_capacity(cases.len());
+        let mut failed = None;
+        let run = self.walk(problem, cases, start, guesses, |case, sv, eq| {
+            let loads = eq.state.loads().to_vec();
+            match sensitivity::at_equilibrium(
+                problem, &mut work, &mut ws, sv, &eq.state, &loads, params, &values,
+            ) {
+                Ok(s) => {
+                    out.push(s);
+                    Ok(())
+                }
+                Err(error) => {
+                    failed = Some(PathError { case, error });
+                    Err(())
+                }
+            }
+        });
+        let result = match failed.or_else(|| run.failure.clone()) {
+            Some(e) => Err(e),
+            None => Ok(out),
+        };
+        (run, result)
+    }
+
+    /// The path loop; `after(case, solver, equilibrium)` runs after each
+    /// converged case, with the solver holding that equilibrium's matrix, and
+    /// stops the path when it fails.
+    fn walk<L: AsRef<[PointLoad]>>(
+        &mut self,
+        problem: &Problem,
+        cases: impl IntoIterator<Item = L>,
+        start: &State,
+        guesses: &[State],
+        mut after: impl FnMut(usize, &mut Solver, &Equilibrium) -> Result<(), ()>,
+    ) -> PathRun {
+        // The last factorisation belongs to another path (maybe another
+        // problem): no predictor from it.
+        if let Some(sv) = &mut self.solver {
+            sv.ended_at = None;
+        }
+        let mut steps: Vec<Equilibrium> = Vec::new();
+        for (case, loads) in cases.into_iter().enumerate() {
+            let committed = steps.last().map_or(start, |e| &e.state);
+            let guessed;
+            let from = match guesses.get(case) {
+                Some(g) => {
+                    guessed = committed.guessed(g);
+                    &guessed
+                }
+                None => committed,
+            };
+            match solve_reusing(problem, loads.as_ref(), from, &mut self.solver) {
+                Ok(eq) => {
+                    let stop = match &mut self.solver {
+                        Some(sv) => after(case, sv, &eq).is_err(),
+                        None => false,
+                    };
+                    steps.push(eq);
+                    if stop {
+                        return PathRun {
+                            steps,
+                            failure: None,
+                        };
+                    }
+                }
+                Err(error) => {
+                    let failure = Some(PathError { case, error });
+                    return PathRun { steps, failure };
+                }
+            }
+        }
+        PathRun {
+            steps,
+            failure: None,
+        }
+    }
+}
+
+/// [`Simulator::run`] with a fresh simulator and no guesses.
+pub fn simulate<L: AsRef<[PointLoad]>>(
+    problem: &Problem,
+    cases: impl IntoIterator<Item = L>,
+    start: &State,
+) -> PathRun {
+    Simulator::new().run(problem, cases, start, &[])
+}
+
+/// A path of the one case `loads` from `start` (trim, correction passes):
+/// its equilibrium or the case's error.
+pub fn solve_case(
+    problem: &Problem,
+    loads: &[PointLoad],
+    start: &State,
+) -> Result<Equilibrium, StaticsError> {
+    let mut run = simulate(problem, [loads], start);
+    match (run.failure, run.steps.pop()) {
+        (Some(e), _) => Err(e.error),
+        (None, Some(eq)) => Ok(eq),
+        (None, None) => Err(StaticsError::new(
+            StaticsErrorKind::BadInput,
+            vec![],
+            "a path of one case gave no equilibrium",
+        )),
+    }
 }
 
 /// The equilibria of every case of `set`, the first from the design configuration.
@@ -24,21 +236,16 @@ pub fn solve_path_from(
     set: LoadSetId,
     start: &State,
 ) -> Result<Vec<Equilibrium>, PathError> {
-    let model = problem.model();
-    let Some(ls) = model.load_sets.get(set.index()) else {
-        let error = StaticsError::new(
-            StaticsErrorKind::BadInput,
-            vec![],
-            format!("load set #{} does not exist", set.0),
-        );
-        return Err(PathError { case: 0, error });
-    };
-    let mut out: Vec<Equilibrium> = Vec::with_capacity(ls.cases.len());
-    for case in 0..ls.cases.len() {
-        let from = out.last().map_or(start, |e| &e.state);
-        let eq = solve(problem, &model.point_loads(set, case), from)
-            .map_err(|error| PathError { case, error })?;
-        out.push(eq);
+    run_set(problem, set, start).into_result()
+}
+
+/// Every case of `set` from `start`, keeping the converged cases on failure.
+pub fn run_set(problem: &Problem, set: LoadSetId, start: &State) -> PathRun {
+    match set_loads(problem.model(), set) {
+        Ok(cases) => simulate(problem, &cases, start),
+        Err(e) => PathRun {
+            steps: Vec::new(),
+            failure: Some(e),
+        },
     }
-    Ok(out)
 }

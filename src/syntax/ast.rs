@@ -89,6 +89,7 @@ pub enum ElementKw {
     Bushing,
     Spring,
     Stop,
+    Friction,
     Wheel,
 }
 
@@ -99,6 +100,7 @@ impl ElementKw {
             ElementKw::Bushing => "bushing",
             ElementKw::Spring => "spring",
             ElementKw::Stop => "stop",
+            ElementKw::Friction => "friction",
             ElementKw::Wheel => "wheel",
         }
     }

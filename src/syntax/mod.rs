@@ -30,7 +30,7 @@ pub fn parse(file: FileId, text: &str) -> Result<ast::File, Diagnostic> {
 /// Words that start an item at the beginning of a line: where parsing can resume.
 const ITEM_KEYWORDS: &[&str] = &[
     "model", "import", "default", "param", "ground", "part", "joint", "bushing", "spring", "stop",
-    "wheel", "loads",
+    "friction", "wheel", "loads",
 ];
 
 /// At most this many syntax errors are reported per file.

@@ -173,6 +173,7 @@ impl Builder {
             "bushing" => ElementKw::Bushing,
             "spring" => ElementKw::Spring,
             "stop" => ElementKw::Stop,
+            "friction" => ElementKw::Friction,
             _ => ElementKw::Wheel,
         };
         let name = self.ident(next(&mut it));

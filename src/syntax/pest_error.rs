@@ -27,9 +27,9 @@ fn describe(rule: Rule) -> Option<&'static str> {
         marker_decl | landmark_decl | kw_marker | kw_landmark => "`marker` or `landmark`",
         model_decl | import_decl | default_decl | param_decl | part_decl | element_decl
         | loads_decl | part_kw | element_kw | kw_model | kw_import | kw_default | kw_param
-        | kw_ground | kw_part | kw_joint | kw_bushing | kw_spring | kw_stop | kw_wheel
-        | kw_loads => {
-            "an item (`model`, `import`, `default`, `param`, `ground`, `part`, `joint`, `bushing`, `spring`, `stop`, `wheel` or `loads`)"
+        | kw_ground | kw_part | kw_joint | kw_bushing | kw_spring | kw_stop | kw_friction
+        | kw_wheel | kw_loads => {
+            "an item (`model`, `import`, `default`, `param`, `ground`, `part`, `joint`, `bushing`, `spring`, `stop`, `friction`, `wheel` or `loads`)"
         }
         kw_unknown | unknown => "`unknown`",
         bounds => "bounds such as `[100 N/mm, 900 N/mm]`",
@@ -208,8 +208,8 @@ pub fn to_diagnostic(file: FileId, text: &str, e: &Error<Rule>) -> Diagnostic {
 fn expected_keywords(e: &Error<Rule>) -> Vec<&'static str> {
     const KEYWORDS: &[&str] = &[
         "model", "import", "param", "ground", "part", "marker", "landmark", "joint", "bushing",
-        "spring", "stop", "wheel", "loads", "default", "unknown", "table", "sweep", "by", "at",
-        "euler",
+        "spring", "stop", "friction", "wheel", "loads", "default", "unknown", "table", "sweep",
+        "by", "at", "euler",
     ];
     let Some(att) = e.parse_attempts() else {
         return Vec::new();
