@@ -7,12 +7,16 @@
 //! 3. backends read the model: [`statics`] (equilibrium, K&C), the printer
 //!    ([`fmt`]), the ADAMS decks ([`emit`]); [`import`] reads ADAMS datasets back.
 //!
-//! Only `main.rs` and `cli/` touch the filesystem.
+//! [`lsp`] serves editors (`axle lsp`) from the same stages; it works on partial
+//! results ([`check::analyse`]) so a file with errors still has names and hovers.
+//!
+//! Only `main.rs`, `cli/` and `lsp/` (stdio, and read-only copies of the stdlib
+//! for editors to open) touch the filesystem.
 //!
 //! Lints (enforced by `.ci/run`): the library never panics on user data
 //! through `unwrap`/`expect` (a fact the code proves locally may use them with
 //! an `allow` saying why) and never prints: it returns diagnostics and text;
-//! only `cli/` and the diagnostic renderer write to the terminal.
+//! only `cli/`, the diagnostic renderer and the editor server's stdio write.
 #![deny(
     clippy::unwrap_used,
     clippy::expect_used,
@@ -31,6 +35,7 @@ pub mod identify;
 pub mod import;
 pub mod kc;
 pub mod locate;
+pub mod lsp;
 pub mod measure;
 pub mod model;
 pub mod output;

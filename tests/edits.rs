@@ -237,3 +237,50 @@ fn identify_failures_are_coded_diagnostics_in_both_formats() {
         redact(&json)
     ));
 }
+
+/// A friction's limit changed by a tool is rewritten on its own line, and a
+/// friction added by a tool is appended with its reason; both check again.
+#[test]
+fn friction_fields_are_edited_in_place_and_new_frictions_appended() {
+    use axle::fmt::{Request, edit_source};
+    use axle::model::{ElementId, FrictionId};
+    let path = "examples/mcpherson_friction.axle";
+    let text = std::fs::read_to_string(path).expect("example");
+    let (_, c) = axle::check::check_str(path, &text);
+    let old = c.model.expect("the example checks");
+    let mut new = old.clone();
+    new.frictions[0].limit.value = 180.0;
+    let mut added = new.frictions[0].clone();
+    added.name = "L5_friction_2".into();
+    added.limit.value = 20.0;
+    new.frictions.push(added);
+    let reasons = [(
+        ElementId::Friction(FrictionId(1)),
+        "a second, lighter friction explains the small loops".to_string(),
+    )];
+    let req = Request {
+        tool: "diagnose",
+        reasons: &reasons,
+    };
+    let out = edit_source(axle::span::FileId(0), path, &text, &old, &new, &req).expect("edits");
+    let changed: Vec<(&str, &str)> = text
+        .lines()
+        .zip(out.text.lines())
+        .filter(|(a, b)| a != b)
+        .collect();
+    assert_eq!(changed.len(), 1, "{changed:?}");
+    assert!(
+        changed[0].0.contains("150") && changed[0].1.contains("180"),
+        "{changed:?}"
+    );
+    let tail = &out.text[text.len()..];
+    assert!(
+        tail.starts_with("\n// added by diagnose: a second, lighter friction explains the small loops\nfriction L5_friction_2 {"),
+        "{tail}"
+    );
+    let (_, again) = axle::check::check_str(path, &out.text);
+    let again = again.model.expect("the edited file checks");
+    assert_eq!(again.frictions.len(), 2);
+    assert_eq!(again.frictions[0].limit.value, 180.0);
+    assert_eq!(again.frictions[1].limit.value, 20.0);
+}

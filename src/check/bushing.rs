@@ -10,7 +10,7 @@ use crate::span::Span;
 use crate::syntax::ast::{ElementDecl, Value};
 use crate::units::Dim;
 
-const BUSHING_PROPS: &[&str] = &[
+pub(super) const BUSHING_PROPS: &[&str] = &[
     "i",
     "j",
     "k",

@@ -15,6 +15,19 @@ const SPRING_PROPS: &[&str] = &["i", "j", "k", "free_length", "preload", "law"];
 const STOP_PROPS: &[&str] = &["i", "j", "contact_length", "k", "poly", "law"];
 const WHEEL_PROPS: &[&str] = &["centre", "center", "contact"];
 
+/// The property names the checker accepts in an element of this kind (for
+/// completion; the checker itself reads the same lists).
+pub fn properties(kw: ElementKw) -> &'static [&'static str] {
+    match kw {
+        ElementKw::Joint => JOINT_PROPS,
+        ElementKw::Bushing => super::bushing::BUSHING_PROPS,
+        ElementKw::Spring => SPRING_PROPS,
+        ElementKw::Stop => STOP_PROPS,
+        ElementKw::Friction => super::friction::FRICTION_PROPS,
+        ElementKw::Wheel => WHEEL_PROPS,
+    }
+}
+
 impl Checker {
     pub(super) fn elements(&mut self, ast: &File) {
         let mut names: BTreeMap<String, Span> = BTreeMap::new();

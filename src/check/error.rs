@@ -3,7 +3,6 @@
 //! E06xx mobility; W for warnings.
 
 use crate::diagnostic::Diagnostic;
-use crate::diagnostic::suggest::did_you_mean;
 use crate::span::Span;
 use crate::units::Dim;
 
@@ -13,12 +12,9 @@ pub fn unknown_name<'a>(
     span: Span,
     candidates: impl IntoIterator<Item = &'a str>,
 ) -> Diagnostic {
-    let d = Diagnostic::error("E0101", format!("unknown {what} `{name}`"))
-        .primary(span, format!("no {what} is called `{name}`"));
-    match did_you_mean(name, candidates) {
-        Some(h) => d.hint(h),
-        None => d,
-    }
+    Diagnostic::error("E0101", format!("unknown {what} `{name}`"))
+        .primary(span, format!("no {what} is called `{name}`"))
+        .did_you_mean(span, name, candidates)
 }
 
 pub fn duplicate(what: &str, name: &str, span: Span, first: Span) -> Diagnostic {
@@ -57,10 +53,7 @@ pub fn unknown_property<'a>(
     let d = Diagnostic::error("E0105", format!("a {element} has no property `{key}`"))
         .primary(span, "unknown property")
         .note(format!("{element} properties: {}", list.join(", ")));
-    match did_you_mean(key, list.iter().copied()) {
-        Some(h) => d.hint(h),
-        None => d,
-    }
+    d.did_you_mean(span, key, list.iter().copied())
 }
 
 pub fn duplicate_property(key: &str, span: Span, first: Span) -> Diagnostic {
@@ -115,8 +108,19 @@ pub fn unknown_unit(text: &str, piece: &str, span: Span) -> Diagnostic {
     let names = crate::units::UNIT_NAMES.iter().map(|(n, _)| *n);
     let d = Diagnostic::error("E0202", format!("unknown unit `{piece}` in `{text}`"))
         .primary(span, "not a unit");
-    match did_you_mean(piece, names) {
-        Some(h) => d.hint(h),
+    match crate::diagnostic::suggest::best(piece, names) {
+        Some(c) => {
+            let d = d.hint(crate::diagnostic::suggest::did_you_mean_text(c));
+            // The unit with the one misspelt factor replaced: `N/mn` → `N/mm`.
+            let factors: Vec<&str> = text.split(['*', '/']).collect();
+            let replaced = factors
+                .iter()
+                .position(|f| f.split('^').next() == Some(piece));
+            match replaced {
+                Some(_) => d.fix(span, text.replacen(piece, c, 1)),
+                None => d,
+            }
+        }
         None => d.hint(
             "units: mm, cm, m, N, kN, deg, rad, kg, s, combined as `N/mm`, `N*mm/deg`, `N/mm^3`",
         ),
@@ -228,10 +232,7 @@ pub fn unknown_module<'a>(
     let d = Diagnostic::error("E0109", format!("unknown module `{name}`"))
         .primary(span, "not a stdlib module")
         .note(format!("stdlib modules: {}", list.join(", ")));
-    match did_you_mean(name, list.iter().copied()) {
-        Some(h) => d.hint(h),
-        None => d,
-    }
+    d.did_you_mean(span, name, list.iter().copied())
 }
 
 pub fn friction_without_axis(

@@ -170,7 +170,12 @@ impl Checker {
             return None;
         };
         match self.model.joints.iter().position(|j| j.name == w) {
-            Some(k) => Some(JointId(k as u32)),
+            Some(k) => {
+                // For editors: `joint L5` names the joint (definition, rename).
+                self.resolution
+                    .refer(p.value.span(), ElementId::Joint(JointId(k as u32)));
+                Some(JointId(k as u32))
+            }
             None => {
                 let names: Vec<&str> = self.model.joints.iter().map(|j| j.name.as_str()).collect();
                 self.problems

@@ -32,8 +32,9 @@ impl Checker {
                     .push(self.imported_wheel_loads(&import, &wheel_sets));
                 continue;
             }
-            for set in m.load_sets {
-                self.add_imported_set(&import, set);
+            for (k, set) in m.load_sets.into_iter().enumerate() {
+                let written = m.origins.get(ElementId::LoadSet(LoadSetId(k as u32)));
+                self.add_imported_set(&import, set, written);
             }
         }
         for item in &ast.items {
@@ -43,7 +44,8 @@ impl Checker {
         }
     }
 
-    fn add_imported_set(&mut self, import: &Ident, mut set: LoadSet) {
+    /// `written`: where the module defines the set, for go-to-definition.
+    fn add_imported_set(&mut self, import: &Ident, mut set: LoadSet, written: Option<Span>) {
         if let Some(first) = self.model.load_set_named(&set.name) {
             let span = self.span_of(ElementId::LoadSet(first));
             self.problems.push(
@@ -67,6 +69,9 @@ impl Checker {
         self.model
             .origins
             .insert(ElementId::LoadSet(id), import.span);
+        if let Some(w) = written {
+            self.resolution.defined_in_module(ElementId::LoadSet(id), w);
+        }
         self.model.imported_load_sets.push(id);
         self.model.load_sets.push(set);
     }
@@ -158,7 +163,16 @@ impl Checker {
             2 => {
                 let w = &c.path[0];
                 match self.model.wheels.iter().position(|x| &x.name == w) {
-                    Some(i) => LoadTarget::Wheel(WheelId(i as u32)),
+                    Some(i) => {
+                        let at = Span::new(
+                            c.span.file,
+                            c.span.start as usize,
+                            c.span.start as usize + w.len(),
+                        );
+                        self.resolution
+                            .refer(at, ElementId::Wheel(WheelId(i as u32)));
+                        LoadTarget::Wheel(WheelId(i as u32))
+                    }
                     None => {
                         let mut d = error::unknown_name(
                             "wheel",
@@ -195,7 +209,16 @@ impl Checker {
                     },
                     span: c.span,
                 };
-                LoadTarget::Marker(self.marker_ref(&r)?)
+                // The channel is one token (`arm.tip.fx`, no spaces): the names
+                // sit at known offsets inside it.
+                let start = c.span.start as usize;
+                let part_end = start + c.path[0].len();
+                let marker_start = part_end + 1;
+                let names = (
+                    Span::new(c.span.file, start, part_end),
+                    Span::new(c.span.file, marker_start, marker_start + c.path[1].len()),
+                );
+                LoadTarget::Marker(self.marker_ref_at(&r, names)?)
             }
         };
         Some(Channel { target, component })

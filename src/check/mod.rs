@@ -1,6 +1,8 @@
 //! Syntax tree → checked [`Model`]: resolves names, checks units and converts
 //! them to internal units, builds frames, checks every element and the mobility
-//! of the mechanism. Collects every problem instead of stopping at the first.
+//! of the mechanism. Collects every problem instead of stopping at the first,
+//! and keeps what it could check ([`Analysis`]) for tools such as the language
+//! server: the partial model and a table of definitions and references.
 
 mod bushing;
 mod elements;
@@ -13,6 +15,10 @@ mod loads;
 mod mobility;
 mod parts;
 mod props;
+mod resolution;
+
+pub use elements::properties;
+pub use resolution::{Resolution, Symbol};
 
 pub(crate) use eval::plain_number;
 
@@ -29,10 +35,50 @@ pub struct Checked {
     pub problems: Problems,
 }
 
+/// The optional, expensive passes of a check.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Passes {
+    /// The mobility analysis (an SVD of the constraint Jacobian at design):
+    /// `axle check` and every command run it; the language server only on save.
+    pub mobility: bool,
+}
+
+impl Passes {
+    pub const ALL: Passes = Passes { mobility: true };
+    /// What an editor needs on every keystroke.
+    pub const FAST: Passes = Passes { mobility: false };
+}
+
+/// Everything a check found out, also when the file has errors.
+pub struct Analysis {
+    /// The syntax tree of the file (with a syntax error: the items that parsed).
+    pub ast: File,
+    /// The model as far as it could be checked: elements with errors are missing
+    /// or hold placeholder values. Only a model without errors is simulated.
+    pub model: Model,
+    /// With syntax errors, only those: the checker's findings on a partial tree
+    /// would be misleading (a part cut off by a syntax error is not unknown).
+    pub problems: Problems,
+    /// Definitions and references of names, with their spans.
+    pub resolution: Resolution,
+    /// The file had no syntax error: the tree is the whole file.
+    pub parsed: bool,
+}
+
 /// Parses and checks a file of the source map; imported stdlib modules are added
 /// to the map so their diagnostics can be rendered.
 pub fn check_file(sources: &mut SourceMap, file: FileId) -> Checked {
-    check_depth(sources, file, 0)
+    let a = analyse(sources, file, Passes::ALL);
+    let model = (!a.problems.has_errors()).then_some(a.model);
+    Checked {
+        model,
+        problems: a.problems,
+    }
+}
+
+/// Parses and checks a file, keeping the partial model and the name table.
+pub fn analyse(sources: &mut SourceMap, file: FileId, passes: Passes) -> Analysis {
+    check_depth(sources, file, 0, passes)
 }
 
 /// Parses and checks a text; convenient for tests and tools.
@@ -43,23 +89,14 @@ pub fn check_str(name: &str, text: &str) -> (SourceMap, Checked) {
     (sources, checked)
 }
 
-fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize) -> Checked {
+fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize, passes: Passes) -> Analysis {
     let text = sources.text(file).to_string();
-    let ast = match crate::syntax::parse_collecting(file, &text) {
-        Ok(ast) => ast,
-        Err(ds) => {
-            let mut problems = Problems::default();
-            for d in ds {
-                problems.push(d);
-            }
-            return Checked {
-                model: None,
-                problems,
-            };
-        }
-    };
+    let parsed = crate::syntax::parse_collecting(file, &text);
+    let ast = parsed.ast;
+    let syntax_errors = parsed.errors;
     let mut problems = Problems::default();
     let mut imports = Vec::new();
+    let mut resolution = Resolution::default();
     for item in &ast.items {
         if let ItemKind::Import(name) = &item.kind {
             let Some(src) = crate::stdlib::module(&name.name) else {
@@ -81,10 +118,12 @@ fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize) -> Checked {
             let fid = sources
                 .find(&fname)
                 .unwrap_or_else(|| sources.add(fname, src));
-            let sub = check_depth(sources, fid, depth + 1);
+            let sub = check_depth(sources, fid, depth + 1, passes);
+            let usable = !sub.problems.has_errors();
             problems.extend(sub.problems);
-            if let Some(m) = sub.model {
-                imports.push((name.clone(), m));
+            resolution.module(name.span, sub.ast.span);
+            if usable {
+                imports.push((name.clone(), sub.model));
             }
         }
     }
@@ -113,13 +152,33 @@ fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize) -> Checked {
             .collect(),
         bad_markers: Default::default(),
         failed_params: Vec::new(),
+        passes: Passes {
+            // Only a file that parsed has a meaningful mobility.
+            mobility: passes.mobility && syntax_errors.is_empty(),
+        },
+        resolution,
     };
     checker.run(&ast, imports);
     let Checker {
-        problems, model, ..
+        mut problems,
+        model,
+        mut resolution,
+        ..
     } = checker;
-    let model = (!problems.has_errors()).then_some(model);
-    Checked { model, problems }
+    let parsed = syntax_errors.is_empty();
+    if !parsed {
+        problems = Problems {
+            list: syntax_errors,
+        };
+    }
+    resolution.definitions(&model);
+    Analysis {
+        ast,
+        model,
+        problems,
+        resolution,
+        parsed,
+    }
 }
 
 pub(crate) struct Checker {
@@ -137,6 +196,9 @@ pub(crate) struct Checker {
     pub(crate) bad_markers: std::collections::BTreeSet<crate::model::MarkerId>,
     /// Parameters whose value could not be evaluated (an error was reported).
     pub(crate) failed_params: Vec<String>,
+    pub(crate) passes: Passes,
+    /// References found while resolving names.
+    pub(crate) resolution: Resolution,
 }
 
 impl Checker {
@@ -165,7 +227,7 @@ impl Checker {
             // reported), on the elements whose markers were read without error.
             self.geometry();
             // Only a complete, geometrically consistent model has a meaningful mobility.
-            if !self.problems.has_errors() {
+            if self.passes.mobility && !self.problems.has_errors() {
                 self.mobility();
             }
         }
@@ -227,7 +289,10 @@ impl Checker {
     /// Resolves a parameter reference, reporting an unknown name.
     pub(crate) fn param_id(&mut self, name: &Ident) -> Option<ParamId> {
         match self.model.param_named(&name.name) {
-            Some(id) => Some(id),
+            Some(id) => {
+                self.resolution.refer(name.span, ElementId::Param(id));
+                Some(id)
+            }
             None if self.failed_params.contains(&name.name) => None,
             None => {
                 let later = self
@@ -265,7 +330,10 @@ impl Checker {
     fn default_loads(&mut self, default: Option<Ident>) {
         self.model.default_load_set = match default {
             Some(name) => match self.model.load_set_named(&name.name) {
-                Some(id) => Some(id),
+                Some(id) => {
+                    self.resolution.refer(name.span, ElementId::LoadSet(id));
+                    Some(id)
+                }
                 None => {
                     let d = error::unknown_name(
                         "load set",

@@ -6,6 +6,7 @@ use crate::geom::{FrameError, Mat3, euler_zxz, frame_from_z_x};
 use crate::model::{
     ElementId, Landmark, LandmarkId, Marker, MarkerId, Orientation, Part, PartId, Val, values,
 };
+use crate::span::Span;
 use crate::syntax::ast::{File, ItemKind, MarkerRef, Orient, PartItem};
 use crate::units::Dim;
 
@@ -153,6 +154,12 @@ impl Checker {
 
     /// Resolves `part.marker`, reporting an unknown part or marker.
     pub(super) fn marker_ref(&mut self, r: &MarkerRef) -> Option<MarkerId> {
+        self.marker_ref_at(r, (r.part.span, r.marker.span))
+    }
+
+    /// [`Self::marker_ref`], with the spans of the two names for the table of
+    /// references (a load channel `arm.tip.fx` reports on the whole channel).
+    pub(super) fn marker_ref_at(&mut self, r: &MarkerRef, at: (Span, Span)) -> Option<MarkerId> {
         let Some(part) = self.model.part_named(&r.part.name) else {
             let d = error::unknown_name(
                 "part",
@@ -163,7 +170,9 @@ impl Checker {
             self.problems.push(d);
             return None;
         };
+        self.resolution.refer(at.0, ElementId::Part(part));
         if let Some(m) = self.model.marker_named(part, &r.marker.name) {
+            self.resolution.refer(at.1, ElementId::Marker(m));
             return Some(m);
         }
         let owners: Vec<String> = self
@@ -201,19 +210,22 @@ impl Checker {
                 .filter(|m| m.part == part)
                 .map(|m| m.name.as_str())
                 .collect();
-            error::unknown_name(
+            let best = crate::diagnostic::suggest::best(&r.marker.name, names.iter().copied());
+            let d = error::unknown_name(
                 "marker",
                 &format!("{}.{}", r.part.name, r.marker.name),
                 r.marker.span,
                 [],
             )
-            .hint(
-                match crate::diagnostic::suggest::best(&r.marker.name, names.iter().copied()) {
-                    Some(b) => format!("did you mean `{}.{b}`?", r.part.name),
-                    None if names.is_empty() => format!("part `{}` has no markers", r.part.name),
-                    None => format!("markers of `{}`: {}", r.part.name, names.join(", ")),
-                },
-            )
+            .hint(match best {
+                Some(b) => format!("did you mean `{}.{b}`?", r.part.name),
+                None if names.is_empty() => format!("part `{}` has no markers", r.part.name),
+                None => format!("markers of `{}`: {}", r.part.name, names.join(", ")),
+            });
+            match best {
+                Some(b) => d.fix(at.1, b),
+                None => d,
+            }
         } else {
             error::marker_on_other_part(&r.part.name, &r.marker.name, r.marker.span, &owners)
         };

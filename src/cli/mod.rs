@@ -64,6 +64,8 @@ pub enum Cmd {
     Locate(locate::Args),
     /// Geometric correction at one measured equilibrium (thesis chapter 2).
     Correct(correct::Args),
+    /// Language server for editors, on stdin/stdout (see docs/editors.md).
+    Lsp,
     /// Rewrite axle files in canonical layout (comments kept).
     Fmt {
         #[arg(required = true)]
@@ -153,7 +155,7 @@ impl Cmd {
     /// The files the command line names as inputs and as outputs.
     fn files(&self) -> (Vec<&Path>, Vec<&Path>) {
         match self {
-            Cmd::Check { .. } | Cmd::Fmt { .. } => (vec![], vec![]),
+            Cmd::Check { .. } | Cmd::Fmt { .. } | Cmd::Lsp => (vec![], vec![]),
             Cmd::Solve {
                 file,
                 loads,
@@ -205,6 +207,10 @@ pub fn run(cli: Cli) -> Exit {
     match cli.cmd {
         Cmd::Check { files, format } => check::run(&files, format),
         Cmd::Fmt { files, check } => fmt::run(&files, check),
+        Cmd::Lsp => match crate::lsp::run_stdio() {
+            0 => Exit::Ok,
+            _ => Exit::Input,
+        },
         Cmd::Solve {
             file,
             loadcases,

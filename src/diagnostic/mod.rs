@@ -19,6 +19,11 @@ pub struct Label {
     pub span: Span,
     pub message: String,
     pub primary: bool,
+    /// A machine-applicable correction of the labelled text (the did-you-mean
+    /// candidate in place of a misspelt name), for editors' quick fixes; the
+    /// diagnostic's hint words it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fix: Option<String>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -56,6 +61,7 @@ impl Diagnostic {
             span,
             message: message.into(),
             primary: true,
+            fix: None,
         });
         self
     }
@@ -65,6 +71,7 @@ impl Diagnostic {
             span,
             message: message.into(),
             primary: false,
+            fix: None,
         });
         self
     }
@@ -85,6 +92,39 @@ impl Diagnostic {
     pub fn hint(mut self, hint: impl Into<String>) -> Self {
         self.hint = Some(hint.into());
         self
+    }
+
+    /// Offers `replacement` for the text of the label at `span` as a quick fix
+    /// (nothing when no label has that span: a fix always replaces labelled text).
+    pub fn fix(mut self, span: Span, replacement: impl Into<String>) -> Self {
+        if let Some(l) = self.labels.iter_mut().find(|l| l.span == span) {
+            l.fix = Some(replacement.into());
+        }
+        self
+    }
+
+    /// The quick fixes: a span and its replacement.
+    pub fn fixes(&self) -> impl Iterator<Item = (Span, &str)> + '_ {
+        self.labels
+            .iter()
+            .filter_map(|l| Some((l.span, l.fix.as_deref()?)))
+    }
+
+    /// The did-you-mean hint for the closest candidate, with its quick fix when
+    /// `span` is the name itself (not a longer text such as a load channel).
+    pub fn did_you_mean<'a>(
+        self,
+        span: Span,
+        name: &str,
+        candidates: impl IntoIterator<Item = &'a str>,
+    ) -> Self {
+        match suggest::best(name, candidates) {
+            Some(c) if span.range().len() == name.len() => {
+                self.hint(suggest::did_you_mean_text(c)).fix(span, c)
+            }
+            Some(c) => self.hint(suggest::did_you_mean_text(c)),
+            None => self,
+        }
     }
 
     pub fn is_error(&self) -> bool {

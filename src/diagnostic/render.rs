@@ -1,5 +1,6 @@
 //! The only place that talks to codespan-reporting: diagnostics as coloured or
-//! plain text, and as JSON for `--format json`.
+//! plain text, as JSON for `--format json`, and as LSP diagnostics for
+//! `axle lsp` (the same values, so every wording is shared).
 
 use super::{Diagnostic, Severity};
 use crate::source::SourceMap;
@@ -125,4 +126,73 @@ pub fn to_json(sources: &SourceMap, diags: &[Diagnostic]) -> serde_json::Value {
         })
         .collect();
     serde_json::json!({ "diagnostics": list })
+}
+
+/// An LSP range (0-based lines, UTF-16 columns) of a span.
+pub fn lsp_range(sources: &SourceMap, span: crate::span::Span) -> lsp_types::Range {
+    let pos = |b: u32| {
+        let (line, character) = sources.utf16_position(span.file, b as usize);
+        lsp_types::Position { line, character }
+    };
+    lsp_types::Range {
+        start: pos(span.start),
+        end: pos(span.end),
+    }
+}
+
+/// A diagnostic for an editor showing `file`: the primary label's range (the
+/// file's start when the primary label is in another file, such as an imported
+/// module), every label as related information, notes and the hint in the
+/// message as `axle check` prints them, and the quick fixes as `data`.
+/// `uri` names the files the labels point into (`None`: the label is left out).
+pub fn to_lsp(
+    sources: &SourceMap,
+    file: crate::span::FileId,
+    d: &Diagnostic,
+    uri: &dyn Fn(crate::span::FileId) -> Option<lsp_types::Uri>,
+) -> lsp_types::Diagnostic {
+    use lsp_types::{DiagnosticRelatedInformation, DiagnosticSeverity, Location, NumberOrString};
+    let primary = d.labels.iter().find(|l| l.primary).or(d.labels.first());
+    let range = match primary {
+        Some(l) if l.span.file == file => lsp_range(sources, l.span),
+        _ => lsp_types::Range::default(),
+    };
+    let mut message = d.message.clone();
+    for n in &d.notes {
+        message.push_str(&format!("\nnote: {n}"));
+    }
+    if let Some(h) = &d.hint {
+        message.push_str(&format!("\nhelp: {h}"));
+    }
+    let related: Vec<DiagnosticRelatedInformation> = d
+        .labels
+        .iter()
+        .filter_map(|l| {
+            Some(DiagnosticRelatedInformation {
+                location: Location {
+                    uri: uri(l.span.file)?,
+                    range: lsp_range(sources, l.span),
+                },
+                message: l.message.clone(),
+            })
+        })
+        .collect();
+    let fixes: Vec<serde_json::Value> = d
+        .fixes()
+        .filter(|(span, _)| span.file == file)
+        .map(|(span, text)| serde_json::json!({ "range": lsp_range(sources, span), "newText": text }))
+        .collect();
+    lsp_types::Diagnostic {
+        range,
+        severity: Some(match d.severity {
+            Severity::Error => DiagnosticSeverity::ERROR,
+            Severity::Warning => DiagnosticSeverity::WARNING,
+        }),
+        code: Some(NumberOrString::String(d.code.to_string())),
+        source: Some("axle".into()),
+        message,
+        related_information: (!related.is_empty()).then_some(related),
+        data: (!fixes.is_empty()).then(|| serde_json::json!({ "fixes": fixes })),
+        ..Default::default()
+    }
 }

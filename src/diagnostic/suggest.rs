@@ -53,7 +53,12 @@ pub fn did_you_mean<'a>(
     name: &str,
     candidates: impl IntoIterator<Item = &'a str>,
 ) -> Option<String> {
-    best(name, candidates).map(|c| format!("did you mean `{c}`?"))
+    best(name, candidates).map(did_you_mean_text)
+}
+
+/// The wording of a suggestion, once.
+pub fn did_you_mean_text(candidate: &str) -> String {
+    format!("did you mean `{candidate}`?")
 }
 
 #[cfg(test)]

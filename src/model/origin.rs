@@ -19,4 +19,9 @@ impl Origins {
     pub fn get(&self, id: ElementId) -> Option<Span> {
         self.spans.get(&id).copied()
     }
+
+    /// Every element with its span, in id order.
+    pub fn iter(&self) -> impl Iterator<Item = (ElementId, Span)> + '_ {
+        self.spans.iter().map(|(id, span)| (*id, *span))
+    }
 }

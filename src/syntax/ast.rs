@@ -94,6 +94,20 @@ pub enum ElementKw {
 }
 
 impl ElementKw {
+    /// Every element kind (a test holds this to the grammar's `element_kw`).
+    pub const ALL: &[ElementKw] = &[
+        ElementKw::Joint,
+        ElementKw::Bushing,
+        ElementKw::Spring,
+        ElementKw::Stop,
+        ElementKw::Friction,
+        ElementKw::Wheel,
+    ];
+
+    pub fn from_keyword(word: &str) -> Option<ElementKw> {
+        Self::ALL.iter().copied().find(|k| k.keyword() == word)
+    }
+
     pub fn keyword(self) -> &'static str {
         match self {
             ElementKw::Joint => "joint",

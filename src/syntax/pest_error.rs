@@ -184,14 +184,19 @@ pub fn to_diagnostic(file: FileId, text: &str, e: &Error<Rule>) -> Diagnostic {
     if words.iter().any(|w| w.starts_with("a unit")) && word {
         let units = "units are written right after the number, without spaces inside: `13875 N/mm`, `4000 N*mm/deg`; known units: mm, cm, m, N, kN, deg, rad, kg, s";
         d = match unit_suggestion(found_word) {
-            Some(u) => d.note(units).hint(format!("did you mean `{u}`?")),
+            Some(u) => d
+                .note(units)
+                .hint(crate::diagnostic::suggest::did_you_mean_text(&u))
+                .fix(span, u),
             None => d.hint(units),
         };
     } else if let Some(k) = word
         .then(|| crate::diagnostic::suggest::best(found_word, keywords.iter().copied()))
         .flatten()
     {
-        d = d.hint(format!("did you mean `{k}`?"));
+        d = d
+            .hint(crate::diagnostic::suggest::did_you_mean_text(k))
+            .fix(span, k);
     } else if words.iter().any(|w| w == "the end of the line") && word {
         d = d.hint("each statement and each property goes on a line of its own");
     } else if words == ["`=`"] {
