@@ -12,6 +12,17 @@
 //!
 //! Only `main.rs`, `cli/` and `lsp/` (stdio, and read-only copies of the stdlib
 //! for editors to open) touch the filesystem.
+//!
+//! Lints (enforced by `.ci/run`): the library never panics on user data
+//! through `unwrap`/`expect` (a fact the code proves locally may use them with
+//! an `allow` saying why) and never prints: it returns diagnostics and text;
+//! only `cli/`, the diagnostic renderer and the editor server's stdio write.
+#![deny(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::print_stdout,
+    clippy::print_stderr
+)]
 
 pub mod check;
 pub mod cli;

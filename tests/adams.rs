@@ -197,7 +197,9 @@ fn lcf_height_mode_writes_the_solved_wheel_centre_heights() {
         let (x, r) = st.part_pose(wc.part);
         let z = (x + r * wc.origin()).z;
         assert!((row[0] - z).abs() < 1e-6, "case {k}: {} vs {z}", row[0]);
-        assert_eq!(row[1], 0.0, "no right wheel");
+        // The half axle's missing right side is its mirror image, not a
+        // request for a 0 mm wheel-centre height.
+        assert_eq!(row[1], row[0], "right wheel mirrored");
     }
     // c1..c5: fz 1500..7500 N, strictly rising centre; lateral rows keep fy.
     assert!(
@@ -205,6 +207,9 @@ fn lcf_height_mode_writes_the_solved_wheel_centre_heights() {
         "{rows:?}"
     );
     assert_eq!(rows[5][2], -4000.0);
+    assert_eq!(rows[5][3], 4000.0, "mirrored lateral force");
+    assert!(text.contains("VERTICAL_MODE_FOR_SETUP  =  'wheel_center_height'"));
+    assert!(text.contains("$ right wheel: none in the model; its columns mirror the left wheel's"));
 }
 
 /// The deck's wheel-angle REQUESTs report axle's toe and camber: their F2/F3
@@ -549,17 +554,20 @@ fn cli_emit_and_import_exit_codes() {
     let st = std::process::Command::new(bin)
         .args(["emit", "adm", ex, "-o"])
         .arg(&out)
-        .status()
+        .output()
         .expect("runs");
-    assert_eq!(st.code(), Some(0));
+    assert_eq!(st.status.code(), Some(0));
+    // The deck drops the measurement points, and says so on stderr.
+    assert!(String::from_utf8_lossy(&st.stderr).contains("20 landmarks are measurement points"));
     let st = std::process::Command::new(bin)
         .args(["import", "adm"])
         .arg(&out)
         .arg("-o")
         .arg(dir.join("m.axle"))
-        .status()
+        .output()
         .expect("runs");
-    assert_eq!(st.code(), Some(0));
+    assert_eq!(st.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&st.stderr).contains("W0902"));
     let bad = dir.join("bad.adm");
     std::fs::write(&bad, "t\nPART 1\n").expect("write");
     let o = std::process::Command::new(bin)
@@ -596,9 +604,11 @@ fn cli_emit_and_import_exit_codes() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("was written to"));
     let text = std::fs::read_to_string(&draft).expect("draft written");
     assert!(text.contains("part part_2 {"), "{text}");
-    let st = std::process::Command::new(bin)
+    // Captured, so the test prints no stray diagnostic.
+    let o = std::process::Command::new(bin)
         .args(["emit", "lcf", "/nonexistent.axle"])
-        .status()
+        .output()
         .expect("runs");
-    assert_eq!(st.code(), Some(2));
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("E0003"));
 }

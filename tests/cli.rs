@@ -118,3 +118,57 @@ fn fmt_check_accepts_examples_and_rejects_messy_files() {
     assert_eq!(code, 0);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `identify`: `--kc`, `--loads` and `--loadcases` exclude each other, a
+/// missing file is exit 2, a wrong set name a usage error listing the sets,
+/// and a K&C file that measures other steps than the landmarks an error.
+#[test]
+fn identify_options_exclude_each_other_and_mismatched_steps_are_errors() {
+    let (code, _, stderr) = axle(&["check", "examples/mcpherson.axle"]);
+    assert_eq!(code, 0, "{stderr}");
+    let (_, checked) = axle::check::check_str(
+        "m.axle",
+        &std::fs::read_to_string("examples/mcpherson.axle").expect("example"),
+    );
+    let model = checked.model.expect("checks");
+    let set = model.load_set_named("thesis_table_5_1").expect("set");
+    let (landmarks, _) = common::landmark_files(&model, set, 0.0, 3, "cli_identify");
+    let (code, kc, stderr) = axle(&[
+        "kc",
+        "examples/mcpherson.axle",
+        "--sweep",
+        "thesis_table_5_1",
+        "--format",
+        "csv",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let full = common::scratch("cli_identify_kc.csv", &kc);
+    let mut rows: Vec<&str> = kc.lines().collect();
+    rows.pop();
+    let short = common::scratch("cli_identify_kc_short.csv", &(rows.join("\n") + "\n"));
+    let base = [
+        "identify",
+        "examples/mcpherson.axle",
+        "--method",
+        "direct",
+        "--landmarks",
+        &landmarks,
+    ];
+    let run = |extra: &[&str]| axle(&[&base[..], extra].concat());
+    let (code, _, stderr) = run(&["--kc", &full, "--loadcases", "bump"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("cannot be used with"), "{stderr}");
+    let (code, _, stderr) = run(&["--loads", &full, "--loadcases", "bump"]);
+    assert_eq!(code, 2, "{stderr}");
+    let (code, _, stderr) = run(&["--kc", "no/such.csv"]);
+    assert_eq!(code, 2, "{stderr}");
+    let (code, _, stderr) = run(&["--loadcases", "thesis_table_51"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("thesis_table_5_1, bump"), "{stderr}");
+    let (code, _, stderr) = run(&["--kc", &short]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(
+        stderr.contains("the K&C file has 12 steps and the landmarks 13; steps 13 have no K&C row"),
+        "{stderr}"
+    );
+}

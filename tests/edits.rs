@@ -217,9 +217,10 @@ fn identify_failures_are_coded_diagnostics_in_both_formats() {
         v.extend(extra);
         axle(&v)
     };
-    // A misspelt load set: E0801 with a did-you-mean.
+    // A misspelt load set: E0801 with a did-you-mean, a usage error (exit 2,
+    // issue 15 and docs/language.md).
     let (code, stdout, stderr) = with(&["--loadcases", "thesis_table_5_2"]);
-    assert_eq!(code, 1);
+    assert_eq!(code, 2);
     assert!(stdout.is_empty());
     // 17 cases of Table 4.4 against the landmarks of Table 5.1's steps: E1101.
     let (code2, _, stderr2) = with(&["--loadcases", "thesis_table_4_4"]);

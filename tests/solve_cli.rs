@@ -274,6 +274,30 @@ fn kc_bump_plot_is_svg_with_four_titled_panels() {
     ]);
     let svg = std::fs::read_to_string(&lat).expect("plot written");
     assert!(svg.contains("lateral force fy [N]") && svg.contains("Camber angle"));
+    // Table 5-1 varies fz, fy and fx: drawn against the case, not one force;
+    // and no tick reads `-0`.
+    let mixed = out.with_file_name("table_5_1.svg");
+    ok(&[
+        "kc",
+        "examples/mcpherson.axle",
+        "--sweep",
+        "thesis_table_5_1",
+        "--plot",
+        &mixed.to_string_lossy(),
+    ]);
+    let svg = std::fs::read_to_string(&mixed).expect("plot written");
+    assert!(svg.contains("load case (step)"), "{svg}");
+    for s in [&svg, &std::fs::read_to_string(&lat).expect("plot")] {
+        // plotters writes each text on its own line between the tags.
+        let texts: Vec<&str> = s.lines().filter(|l| !l.starts_with('<')).collect();
+        assert!(
+            !texts.iter().any(|t| *t == "-0" || *t == "-0.0"),
+            "{texts:?}"
+        );
+    }
+    // Ticks without float noise or a trailing `.0` (was `-4000.0`).
+    let lat_svg = std::fs::read_to_string(&lat).expect("plot");
+    assert!(lat_svg.lines().any(|l| l == "-4000"), "{lat_svg}");
 }
 
 #[test]
@@ -401,16 +425,27 @@ fn unknown_set_suggests_the_near_name() {
         "--loadcases",
         "thesis_table_51",
     ]);
-    assert_eq!(code, 1);
+    // A name on the command line the model lacks is a usage error (exit 2,
+    // docs/language.md), listing the sets.
+    assert_eq!(code, 2);
     assert!(stdout.is_empty());
     assert!(
         stderr.contains("no load-case set `thesis_table_51`")
-            && stderr.contains("did you mean `thesis_table_5_1`?"),
+            && stderr.contains("did you mean `thesis_table_5_1`?")
+            && stderr.contains("the model's load-case sets: thesis_table_4_4"),
         "{stderr}"
     );
     let (code, _, stderr) = axle(&["kc", "examples/mcpherson.axle", "--sweep", "bumpp"]);
-    assert_eq!(code, 1);
+    assert_eq!(code, 2);
     assert!(stderr.contains("did you mean `bump`?"), "{stderr}");
+    let (code, _, stderr) = axle(&[
+        "emit",
+        "lcf",
+        "examples/mcpherson.axle",
+        "--loadcases",
+        "nope",
+    ]);
+    assert_eq!(code, 2, "{stderr}");
 }
 
 #[test]
@@ -461,6 +496,21 @@ fn output_file_and_csv_without_wheels() {
         "{csv}"
     );
     assert_eq!(csv.lines().count(), 4);
+}
+
+/// The README's main job is clean: A's -18.7° in case c1 is torsion about its
+/// own axis, which projected angles represent exactly (no W1001).
+#[test]
+fn the_readme_main_job_prints_no_warning() {
+    let (code, stdout, stderr) = axle(&[
+        "solve",
+        "examples/mcpherson.axle",
+        "--loadcases",
+        "thesis_table_5_1",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.is_empty(), "{stderr}");
+    assert!(stdout.contains("13 cases"), "{stdout}");
 }
 
 /// A path whose third case has no equilibrium (the bushing's vertical law is

@@ -1,7 +1,7 @@
 //! `axle emit adm|acf|lcf FILE [--loadcases SET] -o OUT`.
 
 use super::Exit;
-use super::input::{Loaded, load_model, pick_set};
+use super::input::{Loaded, load_model, pick_set_reported};
 use crate::emit;
 use std::path::{Path, PathBuf};
 
@@ -25,10 +25,7 @@ pub enum VerticalMode {
 /// `solve`), else the default set, else the first.
 fn set(loaded: &Loaded, name: Option<&str>) -> Result<crate::model::LoadSetId, Exit> {
     match name {
-        Some(_) => pick_set(loaded, name).map_err(|d| {
-            loaded.report(&[d]);
-            Exit::Input
-        }),
+        Some(_) => pick_set_reported(loaded, name),
         None => emit::load_set(&loaded.model, None).map_err(|e| {
             loaded.report(&[e.to_diagnostic(&loaded.model)]);
             Exit::Input

@@ -40,10 +40,10 @@ pub struct IdentifyArgs {
     #[arg(long, default_value_t = 0.5)]
     pub match_tolerance: f64,
     /// K&C CSV: its fx, fy, fz (and mx, my, mz) are the loads; lsq also fits its channels.
-    #[arg(long)]
+    #[arg(long, conflicts_with_all = ["loads", "loadcases"])]
     pub kc: Option<PathBuf>,
     /// Loads CSV: step, fx, fy, fz [, mx, my, mz].
-    #[arg(long)]
+    #[arg(long, conflicts_with = "loadcases")]
     pub loads: Option<PathBuf>,
     /// A load-case set of the model, matched to the landmark steps in order.
     #[arg(long)]
@@ -167,7 +167,11 @@ fn identify(
         (None, Some(path)) => inputs::LoadSource::Loads(read(sources, path)?),
         (None, None) => inputs::LoadSource::Set(a.loadcases.as_deref()),
     };
-    let data = inputs::assemble(sources, &model, &poses, source).map_err(Failure::input)?;
+    let data = inputs::assemble(sources, &model, &poses, source).map_err(|d| {
+        // A set the command line names that the model lacks is a usage error.
+        let usage = matches!(d.code, "E0801" | "E0802");
+        Failure(vec![d], if usage { Exit::Io } else { Exit::Input })
+    })?;
     let failed =
         |e: identify::IdentifyError, m: &crate::model::Model| Failure::input(e.to_diagnostic(m));
 

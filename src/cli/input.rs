@@ -33,6 +33,15 @@ pub fn load_model(path: &Path) -> Result<Loaded, Exit> {
     }
 }
 
+/// [`pick_set`], reported: a set the command line names that the model lacks
+/// (or no set named and no default) is a usage error, exit 2.
+pub fn pick_set_reported(loaded: &Loaded, name: Option<&str>) -> Result<LoadSetId, Exit> {
+    pick_set(loaded, name).map_err(|d| {
+        loaded.report(&[d]);
+        Exit::Io
+    })
+}
+
 /// The set named `name`, or the model's default set. An unknown name gets a
 /// did-you-mean and the list of sets.
 pub fn pick_set(loaded: &Loaded, name: Option<&str>) -> Result<LoadSetId, Diagnostic> {

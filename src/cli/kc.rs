@@ -1,6 +1,6 @@
 //! `axle kc FILE --sweep bump|lateral|longitudinal|SET [--plot OUT.svg] [--format …] [-o OUT]`.
 
-use super::input::{emit, load_model, pick_set};
+use super::input::{emit, load_model, pick_set_reported};
 use super::{Exit, OutFormat};
 use crate::diagnostic::Diagnostic;
 use crate::kc::{KcRow, kc_rows};
@@ -23,8 +23,19 @@ pub struct Args {
 }
 
 /// What the plots are drawn against: the swept channel of a sweep, else the
-/// component that varies most; a vertical sweep is a bump sweep.
+/// one component a table varies, else (a mixed table) the case; a vertical
+/// sweep is a bump sweep.
 fn sweep_kind(set: &LoadSet) -> Sweep {
+    if let LoadForm::Table = set.form {
+        let varies = |i: usize| {
+            set.cases
+                .iter()
+                .any(|c| c.values[i] != set.cases[0].values[i])
+        };
+        if (0..set.channels.len()).filter(|&i| varies(i)).count() > 1 {
+            return Sweep::Case;
+        }
+    }
     let comp = match &set.form {
         LoadForm::Sweep { swept, .. } => set.channels.get(*swept).map(|c| c.component),
         LoadForm::Table => (0..set.channels.len())
@@ -117,7 +128,7 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
             .hint("declare a `wheel` with a centre and a contact marker"),
         ));
     }
-    let set: LoadSetId = pick_set(&loaded, Some(&args.sweep)).map_err(fail)?;
+    let set: LoadSetId = pick_set_reported(&loaded, Some(&args.sweep))?;
     let problem = Problem::new(model).map_err(|e| fail(e.to_diagnostic(model)))?;
     let ls = &model.load_sets[set.index()];
     let solved = super::input::solve_reporting(&loaded, &problem, set);

@@ -1,5 +1,8 @@
 //! Command-line types (clap) and the subcommands; the only place besides
 //! `main.rs` that reads or writes files.
+// The command line is where results and messages reach the terminal (the
+// library itself must not print: see src/lib.rs).
+#![allow(clippy::print_stderr, clippy::print_stdout)]
 
 pub mod check;
 pub mod correct;

@@ -1,6 +1,6 @@
 //! `axle solve FILE [--loadcases SET | --loads CSV] [--format …] [-o OUT] [--trim …]`.
 
-use super::input::{Loaded, emit, load_model, pick_set};
+use super::input::{Loaded, emit, load_model, pick_set_reported};
 use super::{Exit, OutFormat};
 use crate::diagnostic::Diagnostic;
 use crate::kc::kc_rows;
@@ -30,10 +30,7 @@ pub struct Args {
 /// The set to solve: from `--loads` (added to the model) or by name.
 fn load_set(loaded: &mut Loaded, args: &Args) -> Result<LoadSetId, Exit> {
     let Some(path) = &args.loads else {
-        return pick_set(loaded, args.loadcases.as_deref()).map_err(|d| {
-            loaded.report(&[d]);
-            Exit::Input
-        });
+        return pick_set_reported(loaded, args.loadcases.as_deref());
     };
     let text = super::read(path)?;
     let name = path

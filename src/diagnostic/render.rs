@@ -45,6 +45,7 @@ pub fn to_string(sources: &SourceMap, d: &Diagnostic) -> String {
 }
 
 /// Writes to stderr, coloured only when stderr is a terminal.
+#[allow(clippy::print_stderr)] // the renderer is where diagnostics reach stderr
 pub fn to_stderr(sources: &SourceMap, diags: &[Diagnostic]) {
     use codespan_reporting::term::termcolor::{ColorChoice, StandardStream};
     use std::io::IsTerminal;

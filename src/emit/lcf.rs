@@ -110,7 +110,11 @@ pub fn emit_lcf_as(m: &Model, set: LoadSetId, vertical: &Vertical) -> Result<Str
         Vertical::Force => None,
         Vertical::CentreHeight(h) => Some(h),
     };
-    o.push_str("[MODE]\n STEERING_MODE  =  'angle'\n");
+    // The setup (design) position is given by wheel-centre heights, as in
+    // the public Adams/Car loadcase files.
+    o.push_str(
+        "[MODE]\n STEERING_MODE  =  'angle'\n VERTICAL_MODE_FOR_SETUP  =  'wheel_center_height'\n",
+    );
     o.push_str(if heights.is_some() {
         " VERTICAL_MODE  =  'wheel_center_height'\n VERTICAL_TYPE  =  'absolute'\n"
     } else {
@@ -128,6 +132,21 @@ pub fn emit_lcf_as(m: &Model, set: LoadSetId, vertical: &Vertical) -> Result<Str
     o.push_str("$   align = mz, otm = mx, rollres = my; damage, drive and steer are 0.\n");
     for (w, s) in m.wheels.iter().zip(&side_of) {
         o.push_str(&format!("$ {} wheel: {}\n", ["left", "right"][*s], w.name));
+    }
+    // A half axle has one side: zeros on the other would ask Adams/Car for a
+    // 0 mm wheel-centre height and no load; its mirror image is what a
+    // symmetric axle sees.
+    let mirror = match taken {
+        [Some(_), None] => Some((0, 1)),
+        [None, Some(_)] => Some((1, 0)),
+        _ => None,
+    };
+    if let Some((from, to)) = mirror {
+        let side = ["left", "right"];
+        o.push_str(&format!(
+            "$ {} wheel: none in the model; its columns mirror the {} wheel's in y = 0 (lat, align and otm change sign)\n",
+            side[to], side[from]
+        ));
     }
     let names: Vec<&str> = ls.cases.iter().map(|c| c.name.as_str()).collect();
     o.push_str(&format!("$ rows: {}\n", names.join(" ")));
@@ -163,6 +182,13 @@ pub fn emit_lcf_as(m: &Model, set: LoadSetId, vertical: &Vertical) -> Result<Str
                     });
                 }
                 row[*side] = *w;
+            }
+        }
+        if let Some((from, to)) = mirror {
+            for col in (0..18).step_by(2) {
+                // lat (fy), align (mz) and otm (mx) are odd under y -> -y.
+                let sign = if matches!(col, 2 | 8 | 14) { -1.0 } else { 1.0 };
+                row[col + to] = sign * row[col + from];
             }
         }
         let cells: Vec<String> = row.iter().map(|v| num(*v)).collect();

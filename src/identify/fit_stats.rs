@@ -114,6 +114,7 @@ pub fn statistics(fit: &Fit) -> Result<Stats, IdentifyError> {
             });
             continue;
         }
+        #[allow(clippy::expect_used)] // `i` is not held, so it is in `free`
         let a = free.iter().position(|&f| f == i).expect("free unknown");
         let in_null = null.nrows() > 0 && null.ncols() > 0 && null.row(a).norm() > 1e-3;
         let sd = cov[(i, i)].max(0.0).sqrt();

@@ -166,6 +166,8 @@ pub fn identify(
             u.addrs
                 .iter()
                 .map(|a| {
+                    #[allow(clippy::expect_used)]
+                    // every address was checked to be a bushing axis above
                     let (b, ax) = axis(*a).expect("checked above");
                     measured_def(b, ax)
                 })
@@ -211,6 +213,8 @@ pub fn identify(
             let mut ok_any = false;
             let mut words = Vec::new();
             for (a, addr) in u.addrs.iter().enumerate() {
+                #[allow(clippy::expect_used)]
+                // every address was checked to be a bushing axis above
                 let (b, ax) = axis(*addr).expect("checked above");
                 let force: Vec<f64> = states
                     .iter()

@@ -142,6 +142,7 @@ impl Subspace {
                     .filter(|&&v| v > 1e-10 * top && v >= s_min)
                     .count();
             frozen = d.s.len() - keep;
+            #[allow(clippy::print_stderr)] // a developer's trace, only with the debug variable set
             if iterations_debug() {
                 eprintln!(
                     "  singular values {:?}",
@@ -287,6 +288,7 @@ pub fn identify(
         let sub = Subspace::new(&jac, &r, &held, opts.freeze_below);
         let remaining = sub.remaining();
         let frozen = sub.frozen;
+        #[allow(clippy::print_stderr)] // a developer's trace, only with the debug variable set
         if iterations_debug() {
             eprintln!(
                 "it {it}: cost {cost:.6} remaining {remaining:.3e} sd, mu {mu:.1e}, {frozen} direction(s) frozen"

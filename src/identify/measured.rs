@@ -269,6 +269,35 @@ pub fn kc_channels(text: &str) -> Result<Vec<(usize, KcObservation)>, CsvError> 
     Ok(out)
 }
 
+/// The K&C file and the landmarks must measure the same steps: a step of one
+/// missing from the other is a file of another run, or rows lost.
+pub fn same_steps(kc: &[(usize, KcObservation)], landmark_steps: &[usize]) -> Result<(), String> {
+    let kc_steps: std::collections::BTreeSet<usize> = kc.iter().map(|(s, _)| *s).collect();
+    let lm: std::collections::BTreeSet<usize> = landmark_steps.iter().copied().collect();
+    if kc_steps == lm {
+        return Ok(());
+    }
+    let list = |v: Vec<&usize>| {
+        let shown: Vec<String> = v.iter().take(8).map(|s| s.to_string()).collect();
+        let more = if v.len() > 8 { ", ..." } else { "" };
+        format!("{}{more}", shown.join(", "))
+    };
+    let only_kc: Vec<&usize> = kc_steps.difference(&lm).collect();
+    let only_lm: Vec<&usize> = lm.difference(&kc_steps).collect();
+    let mut why = format!(
+        "the K&C file has {} steps and the landmarks {}",
+        kc_steps.len(),
+        lm.len()
+    );
+    if !only_kc.is_empty() {
+        why += &format!("; steps {} have no landmarks", list(only_kc));
+    }
+    if !only_lm.is_empty() {
+        why += &format!("; steps {} have no K&C row", list(only_lm));
+    }
+    Err(why)
+}
+
 /// Attaches K&C channels to the steps with the same number.
 pub fn attach_kc(measured: &mut Measured, kc: &[(usize, KcObservation)]) {
     for s in &mut measured.steps {

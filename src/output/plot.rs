@@ -14,6 +14,8 @@ pub enum Sweep {
     Bump,
     /// A force component (0, 1, 2 = fx, fy, fz) or torque (3, 4, 5).
     Force(usize),
+    /// A load table whose cases vary several components: against the case.
+    Case,
 }
 
 /// A panel: title, y label, and the quantity.
@@ -61,7 +63,7 @@ pub fn panel_titles(sweep: Sweep) -> Vec<&'static str> {
 fn panels(sweep: Sweep) -> Vec<Panel> {
     match sweep {
         Sweep::Bump => vec![TOE, CAMBER, TRACK, LOAD],
-        Sweep::Force(_) => vec![TOE, CAMBER],
+        Sweep::Force(_) | Sweep::Case => vec![TOE, CAMBER],
     }
 }
 
@@ -70,7 +72,22 @@ fn x_of(sweep: Sweep, r: &KcRow) -> f64 {
         Sweep::Bump => r.quantities.travel_mm,
         Sweep::Force(c) if c < 3 => r.force[c],
         Sweep::Force(c) => r.torque[(c - 3).min(2)],
+        Sweep::Case => r.step as f64,
     }
+}
+
+/// Ticks per axis: few enough that labels like `-4000` never touch on a
+/// 460 px panel.
+const TICKS: usize = 6;
+
+/// A tick label: at most 6 decimals, no trailing zeros, and never `-0`
+/// (plotters hands ticks such as -0.0 and 0.30000000000000004).
+fn tick(v: &f64) -> String {
+    let r = (v * 1e6).round() / 1e6;
+    if r == 0.0 || !r.is_finite() {
+        return "0".to_string();
+    }
+    format!("{r}")
 }
 
 /// A range around the values with 5 % margins (a flat curve gets a unit band).
@@ -116,6 +133,8 @@ fn load_of(sweep: Sweep, r: &KcRow) -> f64 {
         Sweep::Bump => r.force[2],
         Sweep::Force(c) if c < 3 => r.force[c],
         Sweep::Force(c) => r.torque[(c - 3).min(2)],
+        // Cases in order: one run, never "unloading".
+        Sweep::Case => r.step as f64,
     }
 }
 
@@ -220,6 +239,7 @@ fn draw(title: &str, lines: &[Line], sweep: Sweep, legend: bool) -> Result<Strin
     let x_label = match sweep {
         Sweep::Bump => "wheel travel [mm]",
         Sweep::Force(c) => FORCE_LABELS[c.min(5)],
+        Sweep::Case => "load case (step)",
     };
     let cols = 2u32;
     let nrows = panels.len().div_ceil(2) as u32;
@@ -247,6 +267,10 @@ fn draw(title: &str, lines: &[Line], sweep: Sweep, legend: bool) -> Result<Strin
                 .configure_mesh()
                 .x_desc(x_label)
                 .y_desc(panel.y_label)
+                .x_labels(TICKS)
+                .y_labels(TICKS)
+                .x_label_formatter(&tick)
+                .y_label_formatter(&tick)
                 .light_line_style(RGBColor(235, 235, 235))
                 .draw()
                 .map_err(|e| e.to_string())?;
@@ -284,4 +308,18 @@ fn draw(title: &str, lines: &[Line], sweep: Sweep, legend: bool) -> Result<Strin
         root.present().map_err(|e| e.to_string())?;
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::tick;
+
+    #[test]
+    fn tick_labels_have_no_negative_zero_and_no_float_noise() {
+        assert_eq!(tick(&-0.0), "0");
+        assert_eq!(tick(&-1e-12), "0");
+        assert_eq!(tick(&0.30000000000000004), "0.3");
+        assert_eq!(tick(&-4000.0), "-4000");
+        assert_eq!(tick(&2.5), "2.5");
+    }
 }

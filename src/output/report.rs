@@ -189,12 +189,12 @@ impl FailedCase {
 /// Projected angles are meaningful within about ±15° (`methods.md` §4.2).
 pub const ANGLE_LIMIT_DEG: f64 = 15.0;
 
-/// A bushing whose projected angle leaves ±15°.
+/// A bushing tilted beyond ±15°: its projected angles lose accuracy.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct AngleWarning {
     pub bushing: ElementId,
     pub name: String,
-    /// "ax", "ay" or "az".
+    /// "ax" or "ay": the tilts (torsion "az" is exact and never warned).
     pub angle: &'static str,
     pub value_deg: f64,
 }
@@ -204,7 +204,11 @@ pub fn angle_warnings(model: &Model, state: &State) -> Vec<AngleWarning> {
     let mut out = Vec::new();
     for (k, b) in model.bushings.iter().enumerate() {
         let e = bushing(model, &layout, state, b);
-        for (i, name) in ["ax", "ay", "az"].into_iter().enumerate() {
+        // Only the tilts: ax and ay read the direction of z_I alone, and the
+        // projections are exact for a rotation about z_J (az = the angle), so
+        // torsion about the bushing's own axis, however large, is no reason
+        // to doubt them (docs/language.md, "Deformation").
+        for (i, name) in ["ax", "ay"].into_iter().enumerate() {
             let v = e.angles[i].to_degrees();
             if v.abs() > ANGLE_LIMIT_DEG {
                 out.push(AngleWarning {

@@ -6,7 +6,7 @@ use super::report::{ANGLE_LIMIT_DEG, AngleWarning};
 use crate::diagnostic::Diagnostic;
 use crate::model::{ElementId, Model};
 
-/// One warning per bushing whose projected angles leave ±15° in some case:
+/// One warning per bushing whose tilts (ax, ay) leave ±15° in some case:
 /// the largest angle and the cases where it happens. `per_case[k]` holds the
 /// warnings of case `k` named `names[k]`.
 pub fn angles(model: &Model, names: &[String], per_case: &[Vec<AngleWarning>]) -> Vec<Diagnostic> {
@@ -34,7 +34,7 @@ pub fn angles(model: &Model, names: &[String], per_case: &[Vec<AngleWarning>]) -
             Diagnostic::warning(
                 "W1001",
                 format!(
-                    "{} turns beyond ±{ANGLE_LIMIT_DEG}° ({angle} = {value:.2}° at most), where projected angles lose accuracy",
+                    "{} tilts beyond ±{ANGLE_LIMIT_DEG}° ({angle} = {value:.2}° at most), where projected angles lose accuracy",
                     model.describe(id)
                 ),
             )

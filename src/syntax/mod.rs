@@ -25,6 +25,7 @@ pub fn parse(file: FileId, text: &str) -> Result<ast::File, Diagnostic> {
     depth::check(file, text)?;
     match AxleParser::parse(Rule::file, text) {
         Ok(mut pairs) => {
+            #[allow(clippy::expect_used)] // a successful parse of `file` has its root pair
             let root = pairs.next().expect("invariant: `file` matched");
             Ok(Builder { file }.file(root))
         }

@@ -16,6 +16,7 @@ pub(crate) struct Builder {
 type P<'a> = Pair<'a, Rule>;
 
 /// The next inner pair; the grammar guarantees it exists.
+#[allow(clippy::expect_used)] // the grammar guarantees the child
 fn next<'a>(it: &mut Pairs<'a, Rule>) -> P<'a> {
     it.next()
         .expect("invariant: the grammar guarantees this child")

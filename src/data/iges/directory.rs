@@ -95,6 +95,7 @@ pub fn parse(d: &[Record], p_count: usize) -> Result<Vec<Entry>, IgesError> {
     }
     let mut out = Vec::with_capacity(d.len() / 2);
     for pair in d.chunks_exact(2) {
+        #[allow(clippy::expect_used)] // chunks_exact(2) yields slices of two
         let pair: &[Record; 2] = pair.try_into().expect("chunks of two");
         let kind = int(pair, 1)?;
         let (r1, a1, b1) = field(pair, 1);
