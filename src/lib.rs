@@ -17,6 +17,7 @@ pub mod check;
 pub mod cli;
 pub mod data;
 pub mod diagnostic;
+pub mod edit;
 pub mod emit;
 pub mod fmt;
 pub mod geom;

@@ -120,7 +120,7 @@ fn printed_models_check_and_print_the_same() {
 // N/mm, N·mm/deg), not read from the examples.
 // ---------------------------------------------------------------------------
 
-use axle::model::{AxisLaw, Component, JointKind, LoadTarget, Model, SpringLaw};
+use axle::model::{AxisLaw, AxisLaws, Component, JointKind, LoadTarget, Model, SpringLaw};
 
 const DEG: f64 = std::f64::consts::PI / 180.0;
 
@@ -153,8 +153,8 @@ fn assert_euler(m: &Model, path: &str, e: [f64; 3]) {
     assert!((r - want).abs().max() < 1e-12, "{path} orientation");
 }
 
-fn linear(laws: &[AxisLaw; 3]) -> [f64; 3] {
-    laws.clone().map(|l| match l {
+fn linear(laws: &AxisLaws) -> [f64; 3] {
+    laws.to_three().map(|l| match l {
         AxisLaw::Linear { k, k3 } => {
             assert_eq!(k3.value, 0.0);
             k.value

@@ -5,62 +5,33 @@
 use super::Checker;
 use super::props::Props;
 use crate::diagnostic::Diagnostic;
+use crate::model::schema::{self, FieldId};
 use crate::model::*;
 use crate::span::Span;
 use crate::syntax::ast::{ElementDecl, Value};
 use crate::units::Dim;
 
-pub(super) const BUSHING_PROPS: &[&str] = &[
-    "i",
-    "j",
-    "k",
-    "kt",
-    "k_radial",
-    "k_axial",
-    "kt_radial",
-    "kt_axial",
-    "k_x",
-    "k_y",
-    "k_z",
-    "kt_x",
-    "kt_y",
-    "kt_z",
-    "k3",
-    "kt3",
-    "offset",
-    "angle_offset",
-    "preload",
-    "torque_preload",
-];
-
 impl Checker {
     pub(super) fn bushing(&mut self, e: &ElementDecl) {
-        let props = self.props("bushing", e, BUSHING_PROPS);
+        let keys = schema::BUSHING.keys();
+        let props = self.props("bushing", e, &keys);
         let ij = self.ij(&props);
-        let translational = self.axis_laws(
-            &props,
-            "k",
-            Dim::STIFFNESS,
-            Dim::LENGTH,
-            Dim::FORCE,
-            "(310, 2400, 180) N/mm",
-        );
-        let rotational = self.axis_laws(
-            &props,
-            "kt",
-            Dim::ROT_STIFFNESS,
-            Dim::ANGLE,
-            Dim::TORQUE,
-            "(4500, 1100, 1600) N*mm/deg",
-        );
-        let vec_or_zero = |c: &mut Self, key: &str, dim: Dim, ex: &str| -> Option<Val3> {
-            match props.get(key) {
-                Some(p) => c.prop_vector(p, dim, ex),
+        let family = |c: &mut Self, id: FieldId| {
+            let spec = schema::BUSHING.field(id);
+            let law = spec.law.expect("bushing stiffness fields have laws");
+            c.axis_laws(&props, spec.name, spec.dim, law.from, law.to, spec.example)
+        };
+        let translational = family(self, FieldId::K);
+        let rotational = family(self, FieldId::Kt);
+        let vec_or_zero = |c: &mut Self, id: FieldId| -> Option<Val3> {
+            let spec = schema::BUSHING.field(id);
+            match props.get(spec.name) {
+                Some(p) => c.prop_vector(p, spec.dim, spec.example),
                 None => Some([Val::ZERO; 3]),
             }
         };
-        let k3 = vec_or_zero(self, "k3", Dim::new(-3, 1, 0), "(0, 0, 2) N/mm^3");
-        let kt3 = vec_or_zero(self, "kt3", Dim::new(1, 1, -3), "(0, 0, 2) N*mm/deg^3");
+        let k3 = vec_or_zero(self, FieldId::K3);
+        let kt3 = vec_or_zero(self, FieldId::Kt3);
         // A negative cubic term softens the law until it turns back (several
         // equilibria for one load, then none): reported like a negative stiffness.
         for (key, cubic) in [("k3", &k3), ("kt3", &kt3)] {
@@ -71,10 +42,10 @@ impl Checker {
                 }
             }
         }
-        let offset = vec_or_zero(self, "offset", Dim::LENGTH, "(0, 0, 1.5) mm");
-        let angle_offset = vec_or_zero(self, "angle_offset", Dim::ANGLE, "(0, 0, 2) deg");
-        let preload = vec_or_zero(self, "preload", Dim::FORCE, "(0, 0, 100) N");
-        let torque_preload = vec_or_zero(self, "torque_preload", Dim::TORQUE, "(0, 0, 1000) N*mm");
+        let offset = vec_or_zero(self, FieldId::Offset);
+        let angle_offset = vec_or_zero(self, FieldId::AngleOffset);
+        let preload = vec_or_zero(self, FieldId::Preload);
+        let torque_preload = vec_or_zero(self, FieldId::TorquePreload);
         let (Some((i, j)), Some(mut translational), Some(mut rotational)) =
             (ij, translational, rotational)
         else {
@@ -91,7 +62,7 @@ impl Checker {
         else {
             return;
         };
-        for (laws, cubic, key) in [
+        for ((laws, _), cubic, key) in [
             (&mut translational, k3, "k3"),
             (&mut rotational, kt3, "kt3"),
         ] {
@@ -113,10 +84,35 @@ impl Checker {
                 }
             }
         }
-        let symmetry = if props.has("k_radial") || props.has("kt_radial") {
-            Symmetry::Axisymmetric
-        } else {
-            Symmetry::General
+        // The radial shorthand makes a family axisymmetric: its x and y laws
+        // are stored once, so they must agree (a cubic term may split them).
+        let mut axisymmetric = |laws: [AxisLaw; 3], radial: bool, base: &str| {
+            if radial && laws[0] != laws[1] {
+                let key = format!("{base}3");
+                let span = props.get(&key).map_or(e.name.span, |p| p.value.span());
+                self.problems.push(
+                    Diagnostic::error(
+                        "E0415",
+                        format!("`{key}` differs along x and y of an axisymmetric bushing"),
+                    )
+                    .primary(span, "x and y cubic terms differ")
+                    .secondary_opt(
+                        props.get(&format!("{base}_radial")).map(|p| p.key.span),
+                        "x and y share one radial law",
+                    )
+                    .hint(format!(
+                        "give x and y the same cubic term, or write `{base}` per axis"
+                    )),
+                );
+                return None;
+            }
+            Some(AxisLaws::from_three(laws, radial))
+        };
+        let (Some(translational), Some(rotational)) = (
+            axisymmetric(translational.0, translational.1, "k"),
+            axisymmetric(rotational.0, rotational.1, "kt"),
+        ) else {
+            return;
         };
         let id = BushingId(self.model.bushings.len() as u32);
         self.model
@@ -128,7 +124,6 @@ impl Checker {
             j,
             translational,
             rotational,
-            symmetry,
             offset,
             angle_offset,
             preload,
@@ -137,7 +132,8 @@ impl Checker {
     }
 
     /// The three laws of a bushing family (`k` or `kt`): from the vector, the
-    /// radial/axial shorthand or per-axis properties, each axis set exactly once.
+    /// radial/axial shorthand or per-axis properties, each axis set exactly once;
+    /// with whether the radial shorthand set x and y.
     #[allow(clippy::too_many_arguments)]
     fn axis_laws(
         &mut self,
@@ -147,7 +143,7 @@ impl Checker {
         x: Dim,
         y: Dim,
         example: &str,
-    ) -> Option<[AxisLaw; 3]> {
+    ) -> Option<([AxisLaw; 3], bool)> {
         let mut laws: [Option<(AxisLaw, Span, String)>; 3] = [None, None, None];
         let mut ok = true;
         let set = |c: &mut Self,
@@ -248,7 +244,8 @@ impl Checker {
         if !ok {
             return None;
         }
+        let radial = props.has(&format!("{base}_radial"));
         let [a, b, c] = laws;
-        Some([a?.0, b?.0, c?.0])
+        Some(([a?.0, b?.0, c?.0], radial))
     }
 }

@@ -17,14 +17,14 @@ const WHEEL_PROPS: &[&str] = &["centre", "center", "contact"];
 
 /// The property names the checker accepts in an element of this kind (for
 /// completion; the checker itself reads the same lists).
-pub fn properties(kw: ElementKw) -> &'static [&'static str] {
+pub fn properties(kw: ElementKw) -> Vec<&'static str> {
     match kw {
-        ElementKw::Joint => JOINT_PROPS,
-        ElementKw::Bushing => super::bushing::BUSHING_PROPS,
-        ElementKw::Spring => SPRING_PROPS,
-        ElementKw::Stop => STOP_PROPS,
-        ElementKw::Friction => super::friction::FRICTION_PROPS,
-        ElementKw::Wheel => WHEEL_PROPS,
+        ElementKw::Joint => JOINT_PROPS.to_vec(),
+        ElementKw::Bushing => crate::model::schema::BUSHING.keys(),
+        ElementKw::Spring => SPRING_PROPS.to_vec(),
+        ElementKw::Stop => STOP_PROPS.to_vec(),
+        ElementKw::Friction => super::friction::FRICTION_PROPS.to_vec(),
+        ElementKw::Wheel => WHEEL_PROPS.to_vec(),
     }
 }
 

@@ -22,6 +22,9 @@ const BUSHING_GAP_LIMIT: f64 = 0.01;
 impl Checker {
     pub(super) fn geometry(&mut self) {
         for (n, j) in self.model.joints.iter().enumerate() {
+            if self.model.is_retired(JointId(n as u32)) {
+                continue;
+            }
             if self.bad_markers.contains(&j.i) || self.bad_markers.contains(&j.j) {
                 continue;
             }

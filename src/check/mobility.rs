@@ -18,9 +18,8 @@ impl Checker {
         let md = &self.model;
         let mut touched = vec![false; md.parts.len()];
         let pairs = md
-            .joints
-            .iter()
-            .map(|j| (j.i, j.j))
+            .active_joints()
+            .map(|(_, j)| (j.i, j.j))
             .chain(md.bushings.iter().map(|b| (b.i, b.j)))
             .chain(md.springs.iter().map(|s| (s.i, s.j)))
             .chain(md.stops.iter().map(|s| (s.i, s.j)));

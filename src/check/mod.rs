@@ -16,6 +16,7 @@ mod mobility;
 mod parts;
 mod props;
 mod resolution;
+pub mod validate;
 
 pub use elements::properties;
 pub use resolution::{Resolution, Symbol};

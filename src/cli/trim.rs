@@ -7,7 +7,7 @@ use super::solve::TrimArgs;
 use crate::diagnostic::Diagnostic;
 use crate::diagnostic::suggest::did_you_mean;
 use crate::kc::trim::trim;
-use crate::model::address::{Address, AddressError};
+use crate::model::address::Address;
 use crate::model::{LoadSetId, MarkerId};
 use crate::output::number::round;
 use crate::units::to_boundary;
@@ -20,25 +20,7 @@ pub struct TrimReport {
 }
 
 fn address(loaded: &Loaded, name: &str) -> Result<Address, Diagnostic> {
-    let m = &loaded.model;
-    Address::parse(m, name).map_err(|e| {
-        let d = Diagnostic::error("E0803", format!("cannot trim `{name}`: {e}"));
-        match &e {
-            AddressError::UnknownElement(el) => {
-                let names = m.params.iter().map(|p| p.name.as_str()).chain(m.springs.iter().map(|s| s.name.as_str()));
-                let d = d.note("trim parameters: `<spring>.free_length`, `<spring>.preload`, `<spring>.k`, bushing stiffnesses, or a declared `param`");
-                match did_you_mean(el, names) {
-                    Some(h) => d.hint(h),
-                    None => d,
-                }
-            }
-            AddressError::UnknownField { field, fields, .. } => match did_you_mean(field, fields.iter().copied()) {
-                Some(h) => d.hint(h),
-                None => d,
-            },
-            AddressError::NotLinear(_) => d,
-        }
-    })
+    Address::parse(&loaded.model, name).map_err(|e| e.to_diagnostic("--trim", name))
 }
 
 fn marker(loaded: &Loaded, name: Option<&str>) -> Result<MarkerId, Diagnostic> {

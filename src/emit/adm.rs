@@ -130,7 +130,7 @@ pub fn emit_adm(m: &Model) -> Result<Deck, EmitError> {
     }
     section(&mut o, "CONSTRAINTS");
     let (mut jid, mut pid) = (0, 0);
-    for j in &m.joints {
+    for (_, j) in m.active_joints() {
         let (kw, id) = match j.kind {
             JointKind::Inline | JointKind::Inplane => {
                 pid += 1;

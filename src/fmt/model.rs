@@ -3,6 +3,7 @@
 //! boundary units; fields bound to a parameter print the parameter's name.
 
 use crate::geom::Vec3;
+use crate::model::schema::{self, FieldId};
 use crate::model::*;
 use crate::units::{Dim, to_boundary};
 use std::fmt::Write;
@@ -110,8 +111,9 @@ pub fn print_model(m: &Model) -> String {
         o.push('\n');
         o.push_str(&part_block(m, PartId(pi as u32)));
     }
-    let elements = (0..m.joints.len())
-        .map(|i| ElementId::Joint(JointId(i as u32)))
+    let elements = m
+        .active_joints()
+        .map(|(id, _)| ElementId::Joint(id))
         .chain((0..m.bushings.len()).map(|i| ElementId::Bushing(BushingId(i as u32))))
         .chain((0..m.springs.len()).map(|i| ElementId::Spring(SpringId(i as u32))))
         .chain((0..m.stops.len()).map(|i| ElementId::Stop(StopId(i as u32))))
@@ -325,22 +327,11 @@ fn bushing(o: &mut String, m: &Model, b: &Bushing) {
         m.marker_path(b.i),
         m.marker_path(b.j)
     );
-    for (laws, base, dim, x, y) in [
-        (
-            &b.translational,
-            "k",
-            Dim::STIFFNESS,
-            Dim::LENGTH,
-            Dim::FORCE,
-        ),
-        (
-            &b.rotational,
-            "kt",
-            Dim::ROT_STIFFNESS,
-            Dim::ANGLE,
-            Dim::TORQUE,
-        ),
-    ] {
+    for (laws, id) in [(&b.translational, FieldId::K), (&b.rotational, FieldId::Kt)] {
+        let spec = schema::BUSHING.field(id);
+        let (base, dim) = (spec.name, spec.dim);
+        let Some(law) = spec.law else { continue };
+        let (x, y) = (law.from, law.to);
         let lin: Vec<Option<Val>> = laws
             .iter()
             .map(|l| match l {
@@ -348,8 +339,8 @@ fn bushing(o: &mut String, m: &Model, b: &Bushing) {
                 AxisLaw::Table(_) => None,
             })
             .collect();
-        match (&lin[..], b.symmetry) {
-            ([Some(r), Some(r2), Some(a)], Symmetry::Axisymmetric) if r == r2 => {
+        match (&lin[..], laws) {
+            ([Some(r), _, Some(a)], AxisLaws::Axisymmetric { .. }) => {
                 let _ = writeln!(o, "    {base}_radial {}", scalar(m, r, dim));
                 let _ = writeln!(o, "    {base}_axial {}", scalar(m, a, dim));
             }
@@ -374,19 +365,22 @@ fn bushing(o: &mut String, m: &Model, b: &Bushing) {
             AxisLaw::Linear { k3, .. } => *k3,
             AxisLaw::Table(_) => Val::ZERO,
         });
-        if cubic.iter().any(|v| v.value != 0.0 || v.param.is_some()) {
-            let cdim = dim.div(x.powi(2));
-            let _ = writeln!(o, "    {base}3 {}", vec3(m, &cubic, cdim));
+        if let Some(cubic_id) = law.cubic
+            && cubic.iter().any(|v| v.value != 0.0 || v.param.is_some())
+        {
+            let c = schema::BUSHING.field(cubic_id);
+            let _ = writeln!(o, "    {} {}", c.name, vec3(m, &cubic, c.dim));
         }
     }
-    for (key, v, dim) in [
-        ("offset", &b.offset, Dim::LENGTH),
-        ("angle_offset", &b.angle_offset, Dim::ANGLE),
-        ("preload", &b.preload, Dim::FORCE),
-        ("torque_preload", &b.torque_preload, Dim::TORQUE),
+    for (id, v) in [
+        (FieldId::Offset, &b.offset),
+        (FieldId::AngleOffset, &b.angle_offset),
+        (FieldId::Preload, &b.preload),
+        (FieldId::TorquePreload, &b.torque_preload),
     ] {
         if v.iter().any(|x| x.value != 0.0 || x.param.is_some()) {
-            let _ = writeln!(o, "    {key} {}", vec3(m, v, dim));
+            let spec = schema::BUSHING.field(id);
+            let _ = writeln!(o, "    {} {}", spec.name, vec3(m, v, spec.dim));
         }
     }
     o.push_str("}\n");

@@ -8,7 +8,7 @@
 //! and the exact `∂Q/∂u` of the least-squares sensitivities.
 
 use super::{IdentifyError, Unknown};
-use crate::model::address::Address;
+use crate::model::schema::FieldId;
 use crate::model::{BushingId, ElementId, Model, Orientation, SpringId};
 use crate::statics::StaticsError;
 use crate::statics::coords::{Layout, State};
@@ -73,40 +73,52 @@ pub fn total_force(
 
 /// The element whose force an unknown changes (`Param`: all of them).
 pub fn element_of(u: &Unknown) -> ElementId {
-    match u.addrs[0] {
-        Address::Param(_) => ElementId::Param(crate::model::ParamId(0)),
-        a => a.element(),
+    match u.addrs[0].element {
+        ElementId::Param(_) => ElementId::Param(crate::model::ParamId(0)),
+        e => e,
     }
 }
 
 /// Whether the generalised forces are affine in the unknown at a fixed
 /// configuration (so [`column`] is exact and no constraint moves with it).
 pub fn is_affine(model: &Model, u: &Unknown) -> bool {
-    u.addrs.iter().all(|a| match a {
-        Address::BushingK(..)
-        | Address::BushingKt(..)
-        | Address::SpringK(_)
-        | Address::SpringFreeLength(_)
-        | Address::SpringPreload(_) => true,
-        Address::JointPoint(..) => false,
-        Address::Param(p) => {
+    u.addrs.iter().all(|a| match (a.element, a.field) {
+        // Forces are affine in stiffnesses, cubic terms, offsets, preloads and
+        // polynomial coefficients at a fixed pose; a point, a contact length or
+        // a friction element (path-dependent) is not.
+        (ElementId::Param(p), _) => {
             // Geometry bound to the parameter moves markers; a spring with both
             // k and free length bound to it is bilinear.
             let geometric = model.markers.iter().any(|m| {
-                m.position.iter().any(|v| v.param == Some(*p))
-                    || matches!(&m.orientation, Orientation::Euler(e) if e.iter().any(|v| v.param == Some(*p)))
+                m.position.iter().any(|v| v.param == Some(p))
+                    || matches!(&m.orientation, Orientation::Euler(e) if e.iter().any(|v| v.param == Some(p)))
             }) || model
                 .stops
                 .iter()
-                .any(|s| s.contact_length.param == Some(*p));
+                .any(|s| s.contact_length.param == Some(p));
             let bilinear = model.springs.iter().any(|s| match &s.law {
                 crate::model::SpringLaw::Linear { k, free_length, .. } => {
-                    k.param == Some(*p) && free_length.param == Some(*p)
+                    k.param == Some(p) && free_length.param == Some(p)
                 }
                 crate::model::SpringLaw::Table(_) => false,
             });
             !geometric && !bilinear
         }
+        (_, field) => matches!(
+            field,
+            FieldId::K
+                | FieldId::Kt
+                | FieldId::K3
+                | FieldId::Kt3
+                | FieldId::Offset
+                | FieldId::AngleOffset
+                | FieldId::Preload
+                | FieldId::TorquePreload
+                | FieldId::SpringK
+                | FieldId::FreeLength
+                | FieldId::SpringPreload
+                | FieldId::Coefficient(_)
+        ),
     })
 }
 

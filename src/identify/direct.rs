@@ -15,8 +15,9 @@ use super::combinations::determine;
 use super::linalg::{null_space, rank, svd, truncated_solve};
 use super::measured::{Measured, unmeasured};
 use super::{FitNote, Identified, IdentifyError, IdentifyErrorKind, Method, ParamResult, Unknown};
-use crate::model::Model;
 use crate::model::address::Address;
+use crate::model::schema::FieldId;
+use crate::model::{ElementId, Model};
 use crate::statics::coords::Layout;
 use crate::statics::newton::col_scale;
 use crate::statics::redundancy::scaled_jacobian;
@@ -55,11 +56,12 @@ enum Lin {
 fn linear_unknowns(unknowns: &[Unknown]) -> Vec<Lin> {
     let mut out = Vec::new();
     for (i, u) in unknowns.iter().enumerate() {
-        match u.addrs[0] {
-            Address::SpringK(s) => {
+        let a = u.addrs[0];
+        match (a.element, a.field) {
+            (ElementId::Spring(s), FieldId::SpringK) => {
                 match unknowns
                     .iter()
-                    .position(|v| v.addrs[0] == Address::SpringFreeLength(s))
+                    .position(|v| v.addrs[0] == Address::spring(s, FieldId::FreeLength))
                 {
                     Some(l0) => {
                         out.push(Lin::SpringK { k: i });
@@ -68,8 +70,10 @@ fn linear_unknowns(unknowns: &[Unknown]) -> Vec<Lin> {
                     None => out.push(Lin::Plain(i)),
                 }
             }
-            Address::SpringFreeLength(s)
-                if unknowns.iter().any(|v| v.addrs[0] == Address::SpringK(s)) => {}
+            (ElementId::Spring(s), FieldId::FreeLength)
+                if unknowns
+                    .iter()
+                    .any(|v| v.addrs[0] == Address::spring(s, FieldId::SpringK)) => {}
             _ => out.push(Lin::Plain(i)),
         }
     }

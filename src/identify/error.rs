@@ -77,6 +77,9 @@ pub struct IdentifyError {
     pub elements: Vec<ElementId>,
     /// The statics failure underneath, when a solve failed.
     pub source: Option<StaticsError>,
+    /// The diagnostic itself, when the failure is a bad address on the
+    /// command line (`--unknown`), worded once by `AddressError`.
+    pub address: Option<Box<Diagnostic>>,
 }
 
 impl IdentifyError {
@@ -95,6 +98,16 @@ impl IdentifyError {
             message: message.into(),
             elements,
             source: None,
+            address: None,
+        }
+    }
+
+    /// A bad address (`--unknown A.k_raidal`): its diagnostic is the one
+    /// every command that takes an address gives (E0803).
+    pub fn address(d: Diagnostic) -> IdentifyError {
+        IdentifyError {
+            address: Some(Box::new(d.clone())),
+            ..IdentifyError::of(IdentifyErrorKind::Unknowns, d.message, vec![])
         }
     }
 
@@ -110,12 +123,16 @@ impl IdentifyError {
             message,
             elements: e.elements.clone(),
             source: Some(e),
+            address: None,
         }
     }
 
     /// The diagnostic: the code of the kind, the statics code underneath in a
     /// note, the first element with a source location as the primary label.
     pub fn to_diagnostic(&self, model: &Model) -> Diagnostic {
+        if let Some(d) = &self.address {
+            return (**d).clone();
+        }
         let mut d = Diagnostic::error(self.kind.code(), self.message.clone());
         let mut primary = true;
         for &e in &self.elements {

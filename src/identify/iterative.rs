@@ -57,11 +57,8 @@ fn set_values(
 
 /// The bushing axis an address names: (bushing, axis 0..6 with 3.. rotational).
 fn axis(a: Address) -> Option<(BushingId, usize)> {
-    match a {
-        Address::BushingK(b, n) => Some((b, n)),
-        Address::BushingKt(b, n) => Some((b, 3 + n)),
-        _ => None,
-    }
+    a.bushing_stiffness()
+        .map(|(b, rot, n)| (b, if rot { 3 + n } else { n }))
 }
 
 /// Keeps the unknowns this method can identify (stiffnesses of bushings whose

@@ -6,7 +6,8 @@
 
 use super::IdentifyError;
 use crate::model::address::Address;
-use crate::model::{AxisLaw, Bounds, BushingId, ElementId, Model, SpringId, SpringLaw, Symmetry};
+use crate::model::schema::FieldId;
+use crate::model::{AxisLaw, Bounds, BushingId, ElementId, Model, SpringId, SpringLaw};
 use crate::statics::Parameter;
 use crate::units::Dim;
 
@@ -83,11 +84,7 @@ impl Unknown {
     }
 
     pub fn bushing(&self) -> Option<(BushingId, bool, usize)> {
-        match self.addrs[0] {
-            Address::BushingK(b, n) => Some((b, false, n)),
-            Address::BushingKt(b, n) => Some((b, true, n)),
-            _ => None,
-        }
+        self.addrs[0].bushing_stiffness()
     }
 
     pub fn element(&self) -> ElementId {
@@ -96,20 +93,11 @@ impl Unknown {
 }
 
 /// The declared bounds of an unknown: a parameter's own, or, for a field
-/// written as a parameter (`k_radial kA`), that parameter's. Setting a bound
-/// field sets its parameter, which is how the parameter is found here (the
-/// model does not expose the binding otherwise).
+/// written as a parameter (`k_radial kA`), that parameter's.
 fn bounds_of(model: &Model, a: Address) -> Bounds {
-    let of = |p: usize| model.params[p].unknown.unwrap_or_default();
-    if let Address::Param(p) = a {
-        return of(p.index());
-    }
-    let mut probe = model.clone();
-    let v = a.get(model);
-    a.set(&mut probe, if v.is_finite() { v * 2.0 + 1.0 } else { 1.0 });
-    (0..model.params.len())
-        .find(|&k| probe.params[k].value != model.params[k].value)
-        .map_or_else(Bounds::default, of)
+    a.binding(model)
+        .and_then(|p| model.params[p.index()].unknown)
+        .unwrap_or_default()
 }
 
 fn linear(l: &AxisLaw) -> bool {
@@ -123,19 +111,19 @@ fn defaults(model: &Model) -> Vec<Address> {
         let id = BushingId(k as u32);
         for n in 0..3 {
             if linear(&b.translational[n]) {
-                out.push(Address::BushingK(id, n));
+                out.push(Address::bushing(id, false, n));
             }
         }
         for n in 0..3 {
             if linear(&b.rotational[n]) {
-                out.push(Address::BushingKt(id, n));
+                out.push(Address::bushing(id, true, n));
             }
         }
     }
     for (k, s) in model.springs.iter().enumerate() {
         if matches!(s.law, SpringLaw::Linear { .. }) {
-            out.push(Address::SpringK(SpringId(k as u32)));
-            out.push(Address::SpringFreeLength(SpringId(k as u32)));
+            out.push(Address::spring(SpringId(k as u32), FieldId::SpringK));
+            out.push(Address::spring(SpringId(k as u32), FieldId::FreeLength));
         }
     }
     out
@@ -147,8 +135,8 @@ pub fn select_unknowns(model: &Model, names: &[String]) -> Result<Vec<Unknown>, 
     let mut addrs: Vec<Address> = Vec::new();
     if !names.is_empty() {
         for n in names {
-            let a =
-                Address::parse(model, n).map_err(|e| IdentifyError::new(e.to_string(), vec![]))?;
+            let a = Address::parse(model, n)
+                .map_err(|e| IdentifyError::address(e.to_diagnostic("--unknown", n)))?;
             if !addrs.contains(&a) {
                 addrs.push(a);
             }
@@ -156,7 +144,7 @@ pub fn select_unknowns(model: &Model, names: &[String]) -> Result<Vec<Unknown>, 
     } else {
         for (k, p) in model.params.iter().enumerate() {
             if p.unknown.is_some() {
-                addrs.push(Address::Param(crate::model::ParamId(k as u32)));
+                addrs.push(Address::param(crate::model::ParamId(k as u32)));
             }
         }
         if addrs.is_empty() {
@@ -170,23 +158,13 @@ pub fn select_unknowns(model: &Model, names: &[String]) -> Result<Vec<Unknown>, 
             continue;
         }
         used[i] = true;
+        // Addresses of one stored number (x and y of an axisymmetric radial
+        // law) are one unknown.
         let mut group = vec![addrs[i]];
-        // Tie x to y of an axisymmetric bushing.
-        let partner = match addrs[i] {
-            Address::BushingK(b, 0) => Some(Address::BushingK(b, 1)),
-            Address::BushingKt(b, 0) => Some(Address::BushingKt(b, 1)),
-            _ => None,
-        };
-        if let Some(p) = partner {
-            let b = match p {
-                Address::BushingK(b, _) | Address::BushingKt(b, _) => b,
-                _ => unreachable!("partner is a bushing address"),
-            };
-            if model.bushings[b.index()].symmetry == Symmetry::Axisymmetric {
-                if let Some(j) = addrs.iter().position(|a| *a == p) {
-                    used[j] = true;
-                    group.push(p);
-                }
+        for j in i + 1..addrs.len() {
+            if !used[j] && addrs[j].canonical(model) == addrs[i].canonical(model) {
+                used[j] = true;
+                group.push(addrs[j]);
             }
         }
         out.push(Unknown::new(model, group));

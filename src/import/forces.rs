@@ -42,7 +42,7 @@ pub(crate) fn all(d: &mut Deck, stmts: &[Statement]) {
     });
 }
 
-fn name(d: &Deck, s: &Statement, fallback: &str) -> String {
+pub(super) fn name(d: &Deck, s: &Statement, fallback: &str) -> String {
     let base = super::adm::ident(
         s.view_name
             .as_deref()
@@ -75,9 +75,11 @@ fn three(d: &mut Deck, s: &Statement, key: &str, scale: f64) -> Option<[f64; 3]>
     }
 }
 
+/// ADAMS has no axisymmetric bushing: a family whose x and y laws are equal
+/// is read as one (its radial law stored once).
 fn symmetry(b: &mut Bushing) {
-    if b.translational[0] == b.translational[1] && b.rotational[0] == b.rotational[1] {
-        b.symmetry = Symmetry::Axisymmetric;
+    for laws in [&mut b.translational, &mut b.rotational] {
+        *laws = AxisLaws::from_three(laws.to_three(), true);
     }
 }
 
@@ -108,13 +110,13 @@ fn bushing(d: &mut Deck, s: &Statement) {
 }
 
 /// A law `g(x)` of one measure, evaluated in the deck's context.
-struct Law<'a> {
-    e: &'a Expr,
-    m: &'a Measure,
+pub(super) struct Law<'a> {
+    pub e: &'a Expr,
+    pub m: &'a Measure,
 }
 
 impl Law<'_> {
-    fn at(&self, d: &Deck, x: f64) -> Result<f64, String> {
+    pub fn at(&self, d: &Deck, x: f64) -> Result<f64, String> {
         expr::eval(
             self.e,
             &Ctx {
@@ -195,7 +197,7 @@ fn axis(d: &Deck, law: &Law) -> Result<(AxisLaw, f64, f64), String> {
 }
 
 const GKEYS: [&str; 6] = ["FX", "FY", "FZ", "TX", "TY", "TZ"];
-const GMEAS: [&str; 6] = ["DX", "DY", "DZ", "AX", "AY", "AZ"];
+pub(super) const GMEAS: [&str; 6] = ["DX", "DY", "DZ", "AX", "AY", "AZ"];
 
 fn parse_keys(d: &mut Deck, s: &Statement, keys: &[&str]) -> Option<Vec<Expr>> {
     let mut out = Vec::new();
@@ -227,7 +229,7 @@ fn gforce(d: &mut Deck, s: &Statement, loads: &mut Vec<(MarkerId, Component, f64
     let (Some(i), Some(j)) = (d.marker(s, "I"), d.marker(s, "RM")) else {
         return;
     };
-    if friction(d, s, &es, ii as i64, rm as i64, i, j) {
+    if super::friction::gforce(d, s, &es, ii as i64, rm as i64, i, j) {
         return;
     }
     let (l, f) = (d.len, d.force);
@@ -263,11 +265,11 @@ fn gforce(d: &mut Deck, s: &Statement, loads: &mut Vec<(MarkerId, Component, f64
             }),
         };
         if n < 3 {
-            b.translational[n] = law;
+            *b.translational.get_mut(n) = law;
             b.offset[n] = Val::lit(t0 * sx);
             b.preload[n] = Val::lit(f0 * sy);
         } else {
-            b.rotational[n - 3] = law;
+            *b.rotational.get_mut(n - 3) = law;
             b.angle_offset[n - 3] = Val::lit(t0 * sx);
             b.torque_preload[n - 3] = Val::lit(f0 * sy);
         }
@@ -528,97 +530,4 @@ fn scale_stop(law: StopLaw, l: f64, f: f64) -> StopLaw {
             points: t.points.iter().map(|p| (p.0 * l, p.1 * f)).collect(),
         }),
     }
-}
-
-/// A GFORCE between the I and J markers of a cylindrical, translational,
-/// revolute or spherical joint whose only law is a force along z_J (or a
-/// torque about it) that is linear and capped at a level, as axle writes a
-/// friction: read back as that friction (kf, limit; the design offset comes
-/// back from the geometry). Returns whether the statement was one.
-fn friction(
-    d: &mut Deck,
-    s: &Statement,
-    es: &[Expr],
-    ii: i64,
-    rm: i64,
-    i: MarkerId,
-    j: MarkerId,
-) -> bool {
-    let live: Vec<usize> = (0..6)
-        .filter(|&n| !matches!(es[n], Expr::Num(v) if v == 0.0))
-        .collect();
-    let (n, motion) = match live.as_slice() {
-        [2] => (2, FrictionMotion::Slide),
-        [5] => (5, FrictionMotion::Rotation),
-        _ => return false,
-    };
-    let uses = |e: &Expr, f: &str| match e {
-        Expr::Call(c, _) => c == f,
-        _ => false,
-    };
-    // The capped form: MAX(.., MIN(.., law)) (or MIN of MAX).
-    let capped = match &es[n] {
-        Expr::Call(c, a) if (c == "MAX" || c == "MIN") && a.len() == 2 => a
-            .iter()
-            .any(|x| uses(x, if c == "MAX" { "MIN" } else { "MAX" })),
-        _ => false,
-    };
-    let Some(k) = d.model.joints.iter().position(|jt| jt.i == i && jt.j == j) else {
-        return false;
-    };
-    if !capped || !crate::check::friction_allows(d.model.joints[k].kind, motion) {
-        return false;
-    }
-    let m: Measure = (
-        GMEAS[n].to_string(),
-        if n < 3 {
-            vec![ii, rm, rm]
-        } else {
-            vec![ii, rm]
-        },
-    );
-    let law = Law { e: &es[n], m: &m };
-    let g = |x: f64| law.at(d, x);
-    // Decreasing from +Ff to -Ff: the level, the zero (the offset), and the
-    // point of half the level give the stiffness.
-    let (Ok(hi), Ok(lo)) = (g(-1e9), g(1e9)) else {
-        return false;
-    };
-    if !(hi > 0.0 && (hi + lo).abs() <= 1e-9 * hi) {
-        return false;
-    }
-    let root = |target: f64| -> Option<f64> {
-        let (mut a, mut b) = (-1e9, 1e9);
-        for _ in 0..200 {
-            let mid = 0.5 * (a + b);
-            if g(mid).ok()? > target {
-                a = mid
-            } else {
-                b = mid
-            }
-        }
-        Some(0.5 * (a + b))
-    };
-    let (Some(x0), Some(xh)) = (root(0.0), root(0.5 * hi)) else {
-        return false;
-    };
-    if x0 <= xh {
-        return false;
-    }
-    let kf = 0.5 * hi / (x0 - xh);
-    let (l, f) = (d.len, d.force);
-    let (sx, sy) = if n < 3 { (l, f) } else { (1.0, f * l) };
-    let name = name(d, s, "friction");
-    if let Some(fr) = [kf * sy / sx, hi * sy].iter().find(|v| !v.is_finite()) {
-        d.warn(s, format!("friction law gives {fr}; skipped"));
-        return true;
-    }
-    d.model.frictions.push(Friction {
-        name,
-        joint: JointId(k as u32),
-        motion,
-        stiffness: Val::lit(kf * sy / sx),
-        limit: Val::lit(hi * sy),
-    });
-    true
 }

@@ -5,6 +5,7 @@
 mod adm;
 pub mod expr;
 mod forces;
+mod friction;
 pub mod reader;
 mod vocab;
 

@@ -100,7 +100,7 @@ pub fn complete(doc: &Document, p: Position) -> Vec<CompletionItem> {
         }
         Block::Part => items(["euler", "z", "x"], CompletionItemKind::KEYWORD, "keyword"),
         Block::Element(kw) if words.is_empty() => items(
-            crate::check::properties(kw).iter().copied(),
+            crate::check::properties(kw).into_iter(),
             CompletionItemKind::PROPERTY,
             kw.keyword(),
         ),

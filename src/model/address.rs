@@ -1,238 +1,341 @@
-//! Element parameters addressed by name, as `interfaces.md` writes them:
-//! `<bushing>.k_x|k_y|k_z|kt_x|kt_y|kt_z`, `<spring>.k`, `<spring>.free_length`,
-//! `<spring>.preload`, `<joint>.x|y|z` (the joint point moved on both parts), and
-//! the names of declared parameters. Trim, identification and diagnosis change
-//! models through these.
+//! Every number a user writes, named as a parameter address (grammar in
+//! `docs/language.md`, "Addresses"): a declared parameter (`k_front`), an
+//! element field (`B.k_x`, `B.k3_z`, `B.offset_y`, `spring.free_length`,
+//! `bump.contact_length`, `bump.poly_2`, `L5_friction.kf`), a joint or bushing
+//! point moved on both parts (`L7.z`), or a point on one part
+//! (`upright.L7.z`, `chassis.m1.x`). Field names come from [`super::schema`].
+//! Trim, identification, sensitivities and diagnosis change models through these.
 
+use super::schema::{self, FieldId, Kind, Shape};
 use super::*;
 use crate::units::Dim;
 
-/// A scalar of a model that a tool may change.
+pub use super::address_error::AddressError;
+
+/// One scalar of a model: an element, one of its fields, and the axis for
+/// fields along x, y, z.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Address {
-    Param(ParamId),
-    /// Linear translational stiffness along an axis (0, 1, 2 = x, y, z of J).
-    BushingK(BushingId, usize),
-    /// Linear rotational stiffness about an axis.
-    BushingKt(BushingId, usize),
-    SpringK(SpringId),
-    SpringFreeLength(SpringId),
-    SpringPreload(SpringId),
-    /// A global coordinate of a joint's point: both markers move together.
-    JointPoint(JointId, usize),
+pub struct Address {
+    pub element: ElementId,
+    pub field: FieldId,
+    pub axis: Option<Axis>,
 }
 
-/// Why a name does not address a parameter.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum AddressError {
-    UnknownElement(String),
-    UnknownField {
-        element: String,
-        field: String,
-        fields: Vec<&'static str>,
-    },
-    /// The field exists but is not a single linear number (a table law).
-    NotLinear(String),
+/// The schema kind of an element, for the elements that carry numbers.
+pub fn kind_of(e: ElementId) -> Option<Kind> {
+    Some(match e {
+        ElementId::Param(_) => Kind::Param,
+        ElementId::Marker(_) => Kind::Marker,
+        ElementId::Landmark(_) => Kind::Landmark,
+        ElementId::Joint(_) => Kind::Joint,
+        ElementId::Bushing(_) => Kind::Bushing,
+        ElementId::Spring(_) => Kind::Spring,
+        ElementId::Stop(_) => Kind::Stop,
+        ElementId::Friction(_) => Kind::Friction,
+        ElementId::Part(_) | ElementId::Wheel(_) | ElementId::LoadSet(_) => return None,
+    })
 }
-
-impl std::fmt::Display for AddressError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            AddressError::UnknownElement(e) => {
-                write!(f, "no parameter, bushing, spring or joint is called `{e}`")
-            }
-            AddressError::UnknownField {
-                element,
-                field,
-                fields,
-            } => {
-                write!(
-                    f,
-                    "`{element}` has no parameter `{field}` (it has {})",
-                    fields.join(", ")
-                )
-            }
-            AddressError::NotLinear(n) => write!(f, "`{n}` is a table law, not a single stiffness"),
-        }
-    }
-}
-
-const AXES: [&str; 3] = ["x", "y", "z"];
 
 impl Address {
-    /// Resolves `A.k_x`, `spring.free_length`, `L8.y` or a declared parameter name.
-    pub fn parse(model: &Model, name: &str) -> Result<Address, AddressError> {
-        if let Some(p) = model.param_named(name) {
-            return Ok(Address::Param(p));
+    pub fn param(p: ParamId) -> Address {
+        Address {
+            element: ElementId::Param(p),
+            field: FieldId::Value,
+            axis: None,
         }
-        let Some((elem, field)) = name.rsplit_once('.') else {
-            return Err(AddressError::UnknownElement(name.to_string()));
-        };
-        if let Some(b) = model.bushings.iter().position(|b| b.name == elem) {
-            let id = BushingId(b as u32);
-            let fields = ["k_x", "k_y", "k_z", "kt_x", "kt_y", "kt_z"];
-            let Some(n) = fields.iter().position(|f| *f == field) else {
-                return Err(AddressError::UnknownField {
-                    element: elem.into(),
-                    field: field.into(),
-                    fields: fields.to_vec(),
-                });
-            };
-            let a = if n < 3 {
-                Address::BushingK(id, n)
-            } else {
-                Address::BushingKt(id, n - 3)
-            };
-            return match a.law(model) {
-                Some(AxisLaw::Table(_)) => Err(AddressError::NotLinear(name.into())),
-                _ => Ok(a),
-            };
-        }
-        if let Some(s) = model.springs.iter().position(|s| s.name == elem) {
-            let id = SpringId(s as u32);
-            if matches!(model.springs[s].law, SpringLaw::Table(_)) {
-                return Err(AddressError::NotLinear(name.into()));
-            }
-            return match field {
-                "k" => Ok(Address::SpringK(id)),
-                "free_length" => Ok(Address::SpringFreeLength(id)),
-                "preload" => Ok(Address::SpringPreload(id)),
-                _ => Err(AddressError::UnknownField {
-                    element: elem.into(),
-                    field: field.into(),
-                    fields: vec!["k", "free_length", "preload"],
-                }),
-            };
-        }
-        if let Some(j) = model.joints.iter().position(|j| j.name == elem) {
-            return match AXES.iter().position(|a| *a == field) {
-                Some(n) => Ok(Address::JointPoint(JointId(j as u32), n)),
-                None => Err(AddressError::UnknownField {
-                    element: elem.into(),
-                    field: field.into(),
-                    fields: AXES.to_vec(),
-                }),
-            };
-        }
-        Err(AddressError::UnknownElement(elem.to_string()))
     }
 
-    fn law(self, model: &Model) -> Option<&AxisLaw> {
-        match self {
-            Address::BushingK(b, n) => Some(&model.bushings[b.index()].translational[n]),
-            Address::BushingKt(b, n) => Some(&model.bushings[b.index()].rotational[n]),
+    /// A bushing's linear stiffness along (`rotational` false) or about an axis.
+    pub fn bushing(b: BushingId, rotational: bool, axis: usize) -> Address {
+        Address {
+            element: ElementId::Bushing(b),
+            field: if rotational { FieldId::Kt } else { FieldId::K },
+            axis: Some(Axis::ALL[axis]),
+        }
+    }
+
+    pub fn spring(s: SpringId, field: FieldId) -> Address {
+        Address {
+            element: ElementId::Spring(s),
+            field,
+            axis: None,
+        }
+    }
+
+    /// `(bushing, rotational, axis)` for a bushing's linear stiffness.
+    pub fn bushing_stiffness(self) -> Option<(BushingId, bool, usize)> {
+        match (self.element, self.field, self.axis) {
+            (ElementId::Bushing(b), FieldId::K, Some(a)) => Some((b, false, a.index())),
+            (ElementId::Bushing(b), FieldId::Kt, Some(a)) => Some((b, true, a.index())),
             _ => None,
-        }
-    }
-
-    /// The name this address is written with.
-    pub fn name(self, model: &Model) -> String {
-        match self {
-            Address::Param(p) => model.params[p.index()].name.clone(),
-            Address::BushingK(b, n) => format!("{}.k_{}", model.bushings[b.index()].name, AXES[n]),
-            Address::BushingKt(b, n) => {
-                format!("{}.kt_{}", model.bushings[b.index()].name, AXES[n])
-            }
-            Address::SpringK(s) => format!("{}.k", model.springs[s.index()].name),
-            Address::SpringFreeLength(s) => {
-                format!("{}.free_length", model.springs[s.index()].name)
-            }
-            Address::SpringPreload(s) => format!("{}.preload", model.springs[s.index()].name),
-            Address::JointPoint(j, n) => format!("{}.{}", model.joints[j.index()].name, AXES[n]),
-        }
-    }
-
-    pub fn dim(self, model: &Model) -> Dim {
-        match self {
-            Address::Param(p) => model.params[p.index()].dim,
-            Address::BushingK(..) | Address::SpringK(_) => Dim::STIFFNESS,
-            Address::BushingKt(..) => Dim::ROT_STIFFNESS,
-            Address::SpringFreeLength(_) | Address::JointPoint(..) => Dim::LENGTH,
-            Address::SpringPreload(_) => Dim::FORCE,
         }
     }
 
     /// The element this address belongs to, for diagnostics.
     pub fn element(self) -> ElementId {
-        match self {
-            Address::Param(p) => ElementId::Param(p),
-            Address::BushingK(b, _) | Address::BushingKt(b, _) => ElementId::Bushing(b),
-            Address::SpringK(s) | Address::SpringFreeLength(s) | Address::SpringPreload(s) => {
-                ElementId::Spring(s)
-            }
-            Address::JointPoint(j, _) => ElementId::Joint(j),
-        }
+        self.element
     }
 
-    fn spring_field<'m>(
-        model: &'m mut Model,
-        s: SpringId,
-        f: impl FnOnce(&'m mut Val, &'m mut Val, &'m mut Val) -> &'m mut Val,
-    ) -> Option<&'m mut Val> {
-        match &mut model.springs[s.index()].law {
-            SpringLaw::Linear {
-                k,
-                free_length,
-                preload,
-            } => Some(f(k, free_length, preload)),
-            SpringLaw::Table(_) => None,
-        }
-    }
-
-    /// Current value, internal units.
-    pub fn get(self, model: &Model) -> f64 {
-        match self {
-            Address::Param(p) => model.params[p.index()].value,
-            Address::JointPoint(j, n) => model.marker(model.joints[j.index()].j).position[n].value,
-            _ => {
-                let mut m = model.clone();
-                self.field(&mut m).map_or(f64::NAN, |v| v.value)
-            }
-        }
-    }
-
-    fn field(self, model: &mut Model) -> Option<&mut Val> {
-        match self {
-            Address::BushingK(b, n) | Address::BushingKt(b, n) => {
-                let bush = &mut model.bushings[b.index()];
-                let law = if matches!(self, Address::BushingK(..)) {
-                    &mut bush.translational[n]
-                } else {
-                    &mut bush.rotational[n]
+    /// The same storage under its canonical axis: y of an axisymmetric
+    /// family is x (one radial law).
+    pub fn canonical(self, model: &Model) -> Address {
+        match (self.element, self.axis) {
+            (ElementId::Bushing(b), Some(a)) => {
+                let bu = &model.bushings[b.index()];
+                let laws = match self.field {
+                    FieldId::K | FieldId::K3 => &bu.translational,
+                    FieldId::Kt | FieldId::Kt3 => &bu.rotational,
+                    _ => return self,
                 };
-                match law {
-                    AxisLaw::Linear { k, .. } => Some(k),
-                    AxisLaw::Table(_) => None,
+                Address {
+                    axis: Some(Axis::ALL[laws.stored_axis(a.index())]),
+                    ..self
                 }
             }
-            Address::SpringK(s) => Self::spring_field(model, s, |k, _, _| k),
-            Address::SpringFreeLength(s) => Self::spring_field(model, s, |_, l, _| l),
-            Address::SpringPreload(s) => Self::spring_field(model, s, |_, _, p| p),
-            Address::Param(_) | Address::JointPoint(..) => None,
+            _ => self,
+        }
+    }
+
+    /// The name this address is written with.
+    pub fn name(self, model: &Model) -> String {
+        let (owner, kind) = match self.element {
+            ElementId::Param(p) => return model.params[p.index()].name.clone(),
+            ElementId::Marker(m) => (model.marker_path(m), Kind::Marker),
+            ElementId::Landmark(l) => {
+                let l = &model.landmarks[l.index()];
+                (
+                    format!("{}.{}", model.part(l.part).name, l.name),
+                    Kind::Landmark,
+                )
+            }
+            ElementId::Joint(j) => (model.joints[j.index()].name.clone(), Kind::Joint),
+            ElementId::Bushing(b) => (model.bushings[b.index()].name.clone(), Kind::Bushing),
+            ElementId::Spring(s) => (model.springs[s.index()].name.clone(), Kind::Spring),
+            ElementId::Stop(s) => (model.stops[s.index()].name.clone(), Kind::Stop),
+            ElementId::Friction(f) => (model.frictions[f.index()].name.clone(), Kind::Friction),
+            other => return model.describe(other),
+        };
+        let spec = schema::of(kind).field(self.field);
+        let field = match (spec.shape, self.axis, self.field) {
+            (Shape::Axes, Some(a), _) if spec.name.is_empty() => a.name().to_string(),
+            (Shape::Axes, Some(a), _) => format!("{}_{}", spec.name, a.name()),
+            (Shape::Degrees, _, FieldId::Coefficient(n)) => {
+                let single = matches!(self.element, ElementId::Stop(s)
+                    if matches!(&model.stops[s.index()].law, StopLaw::Polynomial(c) if c.len() == 1));
+                if n == 1 && single {
+                    "k".to_string()
+                } else {
+                    format!("{}_{n}", spec.name)
+                }
+            }
+            _ => spec.name.to_string(),
+        };
+        format!("{owner}.{field}")
+    }
+
+    /// The dimension of the value (internal units are mm, N, rad).
+    pub fn dim(self, model: &Model) -> Dim {
+        match (self.element, self.field) {
+            (ElementId::Param(p), _) => model.params[p.index()].dim,
+            (ElementId::Friction(f), field) => {
+                let rot = model.frictions[f.index()].motion == FrictionMotion::Rotation;
+                match (field, rot) {
+                    (FieldId::FrictionStiffness, false) => Dim::STIFFNESS,
+                    (FieldId::FrictionStiffness, true) => Dim::ROT_STIFFNESS,
+                    (_, false) => Dim::FORCE,
+                    (_, true) => Dim::TORQUE,
+                }
+            }
+            (e, field) => kind_of(e).map_or(Dim::NONE, |k| field.dim(k)),
+        }
+    }
+
+    /// The unit values are shown in (`N/mm`, `N*mm/deg`, `mm`).
+    pub fn unit(self, model: &Model) -> String {
+        self.dim(model).boundary_unit()
+    }
+
+    /// The stored field, if this address names one (a joint or bushing point
+    /// names the J marker's coordinate; both markers move on `set`).
+    pub fn val(self, model: &Model) -> Option<&Val> {
+        let a = self.axis.map_or(0, Axis::index);
+        fn law_k(laws: &AxisLaws, a: usize, cubic: bool) -> Option<&Val> {
+            match laws.get(a) {
+                AxisLaw::Linear { k, k3 } => Some(if cubic { k3 } else { k }),
+                AxisLaw::Table(_) => None,
+            }
+        }
+        match self.element {
+            ElementId::Param(_) => None,
+            ElementId::Marker(m) => Some(&model.markers[m.index()].position[a]),
+            ElementId::Landmark(l) => Some(&model.landmarks[l.index()].position[a]),
+            ElementId::Joint(_) | ElementId::Bushing(_) if self.field == FieldId::Position => {
+                let (_, j) = self.point_markers(model)?;
+                Some(&model.markers[j.index()].position[a])
+            }
+            ElementId::Bushing(b) => {
+                let b = &model.bushings[b.index()];
+                match self.field {
+                    FieldId::K => law_k(&b.translational, a, false),
+                    FieldId::Kt => law_k(&b.rotational, a, false),
+                    FieldId::K3 => law_k(&b.translational, a, true),
+                    FieldId::Kt3 => law_k(&b.rotational, a, true),
+                    FieldId::Offset => Some(&b.offset[a]),
+                    FieldId::AngleOffset => Some(&b.angle_offset[a]),
+                    FieldId::Preload => Some(&b.preload[a]),
+                    FieldId::TorquePreload => Some(&b.torque_preload[a]),
+                    _ => None,
+                }
+            }
+            ElementId::Spring(s) => match &model.springs[s.index()].law {
+                SpringLaw::Linear {
+                    k,
+                    free_length,
+                    preload,
+                } => match self.field {
+                    FieldId::SpringK => Some(k),
+                    FieldId::FreeLength => Some(free_length),
+                    FieldId::SpringPreload => Some(preload),
+                    _ => None,
+                },
+                SpringLaw::Table(_) => None,
+            },
+            ElementId::Stop(s) => {
+                let s = &model.stops[s.index()];
+                match (self.field, &s.law) {
+                    (FieldId::ContactLength, _) => Some(&s.contact_length),
+                    (FieldId::Coefficient(n), StopLaw::Polynomial(c)) => {
+                        c.get(usize::from(n).checked_sub(1)?)
+                    }
+                    _ => None,
+                }
+            }
+            ElementId::Friction(f) => {
+                let f = &model.frictions[f.index()];
+                match self.field {
+                    FieldId::FrictionStiffness => Some(&f.stiffness),
+                    FieldId::FrictionLimit => Some(&f.limit),
+                    _ => None,
+                }
+            }
+            _ => None,
+        }
+    }
+
+    /// The I and J markers of a joint or bushing point.
+    fn point_markers(self, model: &Model) -> Option<(MarkerId, MarkerId)> {
+        match self.element {
+            ElementId::Joint(j) => Some((model.joints[j.index()].i, model.joints[j.index()].j)),
+            ElementId::Bushing(b) => {
+                Some((model.bushings[b.index()].i, model.bushings[b.index()].j))
+            }
+            _ => None,
+        }
+    }
+
+    fn val_mut(self, model: &mut Model) -> Option<&mut Val> {
+        // The mutable twin of `val` (points are handled by `set`).
+        let a = self.axis.map_or(0, Axis::index);
+        fn law_k(laws: &mut AxisLaws, a: usize, cubic: bool) -> Option<&mut Val> {
+            match laws.get_mut(a) {
+                AxisLaw::Linear { k, k3 } => Some(if cubic { k3 } else { k }),
+                AxisLaw::Table(_) => None,
+            }
+        }
+        match self.element {
+            ElementId::Marker(m) => Some(&mut model.markers[m.index()].position[a]),
+            ElementId::Landmark(l) => Some(&mut model.landmarks[l.index()].position[a]),
+            ElementId::Bushing(b) => {
+                let b = &mut model.bushings[b.index()];
+                match self.field {
+                    FieldId::K => law_k(&mut b.translational, a, false),
+                    FieldId::Kt => law_k(&mut b.rotational, a, false),
+                    FieldId::K3 => law_k(&mut b.translational, a, true),
+                    FieldId::Kt3 => law_k(&mut b.rotational, a, true),
+                    FieldId::Offset => Some(&mut b.offset[a]),
+                    FieldId::AngleOffset => Some(&mut b.angle_offset[a]),
+                    FieldId::Preload => Some(&mut b.preload[a]),
+                    FieldId::TorquePreload => Some(&mut b.torque_preload[a]),
+                    _ => None,
+                }
+            }
+            ElementId::Spring(s) => match &mut model.springs[s.index()].law {
+                SpringLaw::Linear {
+                    k,
+                    free_length,
+                    preload,
+                } => match self.field {
+                    FieldId::SpringK => Some(k),
+                    FieldId::FreeLength => Some(free_length),
+                    FieldId::SpringPreload => Some(preload),
+                    _ => None,
+                },
+                SpringLaw::Table(_) => None,
+            },
+            ElementId::Stop(s) => {
+                let s = &mut model.stops[s.index()];
+                match (self.field, &mut s.law) {
+                    (FieldId::ContactLength, _) => Some(&mut s.contact_length),
+                    (FieldId::Coefficient(n), StopLaw::Polynomial(c)) => {
+                        c.get_mut(usize::from(n).checked_sub(1)?)
+                    }
+                    _ => None,
+                }
+            }
+            ElementId::Friction(f) => {
+                let f = &mut model.frictions[f.index()];
+                match self.field {
+                    FieldId::FrictionStiffness => Some(&mut f.stiffness),
+                    FieldId::FrictionLimit => Some(&mut f.limit),
+                    _ => None,
+                }
+            }
+            _ => None,
+        }
+    }
+
+    /// Current value, internal units (NaN if the address no longer names a
+    /// number, e.g. after its law was replaced by a table).
+    pub fn get(self, model: &Model) -> f64 {
+        match self.element {
+            ElementId::Param(p) => model.params[p.index()].value,
+            _ => self.val(model).map_or(f64::NAN, |v| v.value),
+        }
+    }
+
+    /// The declared parameter this field is written as, if any.
+    pub fn binding(self, model: &Model) -> Option<ParamId> {
+        match self.element {
+            ElementId::Param(p) => Some(p),
+            _ => self.val(model).and_then(|v| v.param),
         }
     }
 
     /// Sets the value (internal units). A field bound to a declared parameter
-    /// sets that parameter (and so every field bound to it); a joint point moves
-    /// both joint markers, which the thesis' geometric correction does.
+    /// sets that parameter (and so every field bound to it); a joint or bushing
+    /// point moves both markers, as the thesis' geometric correction does, each
+    /// through its own binding.
     pub fn set(self, model: &mut Model, value: f64) {
-        match self {
-            Address::Param(p) => model.set_param(p, value),
-            Address::JointPoint(j, n) => {
-                let joint = model.joints[j.index()].clone();
-                for m in [joint.i, joint.j] {
-                    model.markers[m.index()].position[n] = Val::lit(value);
-                }
+        if let ElementId::Param(p) = self.element {
+            return model.set_param(p, value);
+        }
+        if self.field == FieldId::Position
+            && let Some((i, j)) = self.point_markers(model)
+        {
+            for m in [i, j] {
+                let at = Address {
+                    element: ElementId::Marker(m),
+                    ..self
+                };
+                at.set(model, value);
             }
-            _ => {
-                let bound = self.field(model).and_then(|v| v.param);
-                match bound {
-                    Some(p) => model.set_param(p, value),
-                    None => {
-                        if let Some(v) = self.field(model) {
-                            v.value = value;
-                        }
-                    }
+            return;
+        }
+        match self.binding(model) {
+            Some(p) => model.set_param(p, value),
+            None => {
+                if let Some(v) = self.val_mut(model) {
+                    v.value = value;
                 }
             }
         }
@@ -240,49 +343,5 @@ impl Address {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn model() -> Model {
-        let src = "param kz = 1000 N/mm\nground g {\n    marker o at (0, 0, 0) mm\n}\npart p {\n    marker o at (0, 0, 0) mm\n    marker t at (0, 0, 100) mm\n}\nbushing b {\n    i g.o\n    j p.o\n    k (1000 N/mm, 2000 N/mm, kz)\n    kt (1, 2, 3) N*mm/deg\n}\nspring s {\n    i g.o\n    j p.t\n    k 30 N/mm\n    free_length 290 mm\n}\n";
-        let (_, c) = crate::check::check_str("t.axle", src);
-        c.model.expect("checks")
-    }
-
-    #[test]
-    fn addresses_resolve_read_and_write() {
-        let mut m = model();
-        let a = Address::parse(&m, "b.k_y").expect("bushing field");
-        assert_eq!(a.get(&m), 2000.0);
-        a.set(&mut m, 2500.0);
-        assert_eq!(a.get(&m), 2500.0);
-        assert_eq!(a.name(&m), "b.k_y");
-        let kt = Address::parse(&m, "b.kt_z").expect("rotational");
-        assert!((kt.get(&m) - 3.0 / crate::units::DEG).abs() < 1e-9);
-        let l0 = Address::parse(&m, "s.free_length").expect("spring");
-        assert_eq!(l0.get(&m), 290.0);
-        assert_eq!(l0.dim(&m), Dim::LENGTH);
-    }
-
-    #[test]
-    fn a_bound_field_sets_its_parameter() {
-        let mut m = model();
-        let a = Address::parse(&m, "b.k_z").expect("bound field");
-        a.set(&mut m, 1500.0);
-        assert_eq!(m.params[0].value, 1500.0);
-        assert_eq!(Address::parse(&m, "kz").expect("param").get(&m), 1500.0);
-    }
-
-    #[test]
-    fn unknown_names_say_what_exists() {
-        let m = model();
-        assert_eq!(
-            Address::parse(&m, "nope.k"),
-            Err(AddressError::UnknownElement("nope".into()))
-        );
-        match Address::parse(&m, "b.k_w") {
-            Err(AddressError::UnknownField { fields, .. }) => assert!(fields.contains(&"k_x")),
-            other => panic!("{other:?}"),
-        }
-    }
-}
+#[path = "address_tests.rs"]
+mod tests;

@@ -1,17 +1,8 @@
 //! Force elements (bushings, springs, stops) and wheels.
 
 use super::id::{JointId, MarkerId, PartId};
-use super::law::{AxisLaw, Table};
+use super::law::{AxisLaw, AxisLaws, Table};
 use super::param::{Val, Val3};
-
-/// Whether a bushing's radial axes (x, y of its J marker) share one law.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Symmetry {
-    /// Six independent laws.
-    General,
-    /// x and y share their law (written with `k_radial`/`kt_radial`); z is the axis.
-    Axisymmetric,
-}
 
 /// An ADAMS-style bushing (`conventions.md`, "Bushing"). I on the inner sleeve's
 /// part, J on the outer sleeve's part; J's axes are the stiffness axes.
@@ -21,10 +12,9 @@ pub struct Bushing {
     pub i: MarkerId,
     pub j: MarkerId,
     /// Translational laws along x_J, y_J, z_J: force (N) of deformation (mm).
-    pub translational: [AxisLaw; 3],
+    pub translational: AxisLaws,
     /// Rotational laws about x_J, y_J, z_J: torque (N·mm) of projected angle (rad).
-    pub rotational: [AxisLaw; 3],
-    pub symmetry: Symmetry,
+    pub rotational: AxisLaws,
     /// Deformation offset `t0`, mm, J axes.
     pub offset: Val3,
     /// Angular offset `a0`, rad, projected angles.
@@ -148,9 +138,8 @@ impl Bushing {
             name: name.to_string(),
             i,
             j,
-            translational: k.map(AxisLaw::linear),
-            rotational: kt.map(AxisLaw::linear),
-            symmetry: Symmetry::General,
+            translational: AxisLaws::General(k.map(AxisLaw::linear)),
+            rotational: AxisLaws::General(kt.map(AxisLaw::linear)),
             offset: [Val::ZERO; 3],
             angle_offset: [Val::ZERO; 3],
             preload: [Val::ZERO; 3],

@@ -23,8 +23,19 @@ pub enum Axis {
 }
 
 impl Axis {
+    pub const ALL: [Axis; 3] = [Axis::X, Axis::Y, Axis::Z];
+
     pub fn index(self) -> usize {
         self as usize
+    }
+
+    /// `x`, `y` or `z`, as addresses and diagnostics write it.
+    pub fn name(self) -> &'static str {
+        ["x", "y", "z"][self.index()]
+    }
+
+    pub fn from_name(s: &str) -> Option<Axis> {
+        Axis::ALL.into_iter().find(|a| a.name() == s)
     }
 }
 

@@ -66,3 +66,111 @@ impl AxisLaw {
         self.eval(0.0).1
     }
 }
+
+/// The three laws of one bushing family (forces along, or torques about, the
+/// x, y, z axes of J). An axisymmetric family stores its radial law once, so
+/// that x and y cannot disagree: the only way to change one is to change both.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AxisLaws {
+    /// Three independent laws.
+    General([AxisLaw; 3]),
+    /// x and y share `radial` (written `k_radial`/`kt_radial`); z is the axis.
+    Axisymmetric { radial: AxisLaw, axial: AxisLaw },
+}
+
+impl AxisLaws {
+    /// Three laws, kept axisymmetric when x and y are equal and `symmetric` asks for it.
+    pub fn from_three(laws: [AxisLaw; 3], symmetric: bool) -> AxisLaws {
+        let [x, y, z] = laws;
+        if symmetric && x == y {
+            AxisLaws::Axisymmetric {
+                radial: x,
+                axial: z,
+            }
+        } else {
+            AxisLaws::General([x, y, z])
+        }
+    }
+
+    pub fn is_axisymmetric(&self) -> bool {
+        matches!(self, AxisLaws::Axisymmetric { .. })
+    }
+
+    /// The axis whose storage `axis` shares (y reads x's radial law).
+    pub fn stored_axis(&self, axis: usize) -> usize {
+        match self {
+            AxisLaws::Axisymmetric { .. } if axis == 1 => 0,
+            _ => axis,
+        }
+    }
+
+    /// The law along axis 0, 1 or 2 (x and y of an axisymmetric family are one law).
+    pub fn get(&self, axis: usize) -> &AxisLaw {
+        match self {
+            AxisLaws::General(l) => &l[axis],
+            AxisLaws::Axisymmetric { radial, axial } => {
+                if axis == 2 {
+                    axial
+                } else {
+                    radial
+                }
+            }
+        }
+    }
+
+    /// The law along `axis`, for changing it; on an axisymmetric family x and y
+    /// are one law, so changing either changes both.
+    pub fn get_mut(&mut self, axis: usize) -> &mut AxisLaw {
+        match self {
+            AxisLaws::General(l) => &mut l[axis],
+            AxisLaws::Axisymmetric { radial, axial } => {
+                if axis == 2 {
+                    axial
+                } else {
+                    radial
+                }
+            }
+        }
+    }
+
+    /// The laws along x, y, z (an axisymmetric radial law twice).
+    pub fn iter(&self) -> impl Iterator<Item = &AxisLaw> + '_ {
+        (0..3).map(|a| self.get(a))
+    }
+
+    /// Each stored law once (the radial law of an axisymmetric family once).
+    pub fn stored_mut(&mut self) -> Vec<&mut AxisLaw> {
+        match self {
+            AxisLaws::General(l) => l.iter_mut().collect(),
+            AxisLaws::Axisymmetric { radial, axial } => vec![radial, axial],
+        }
+    }
+
+    /// The three laws as independent copies.
+    pub fn to_three(&self) -> [AxisLaw; 3] {
+        std::array::from_fn(|a| self.get(a).clone())
+    }
+}
+
+impl std::ops::Index<usize> for AxisLaws {
+    type Output = AxisLaw;
+    fn index(&self, axis: usize) -> &AxisLaw {
+        self.get(axis)
+    }
+}
+
+impl<'a> IntoIterator for &'a AxisLaws {
+    type Item = &'a AxisLaw;
+    type IntoIter = std::iter::Map<std::ops::Range<usize>, Box<dyn Fn(usize) -> &'a AxisLaw + 'a>>;
+    fn into_iter(self) -> Self::IntoIter {
+        (0..3).map(Box::new(move |a| self.get(a)))
+    }
+}
+
+/// `laws[axis] = ...`: on an axisymmetric family x and y are one law, so
+/// changing either changes both (see [`AxisLaws::get_mut`]).
+impl std::ops::IndexMut<usize> for AxisLaws {
+    fn index_mut(&mut self, axis: usize) -> &mut AxisLaw {
+        self.get_mut(axis)
+    }
+}

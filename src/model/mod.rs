@@ -4,6 +4,8 @@
 //! [`origin::Origins`] maps elements back to source.
 
 pub mod address;
+mod address_error;
+mod address_parse;
 pub mod elements;
 pub mod id;
 pub mod joint;
@@ -11,6 +13,7 @@ pub mod law;
 pub mod load;
 pub mod origin;
 pub mod param;
+pub mod schema;
 
 pub use elements::*;
 pub use id::*;
@@ -96,9 +99,26 @@ pub struct Model {
     pub origins: origin::Origins,
     /// Load sets that came from imported modules (not printed back with the model).
     pub imported_load_sets: Vec<LoadSetId>,
+    /// Joints replaced by an edit (e.g. by a bushing): kept in the arena so
+    /// every `JointId` a caller holds stays valid, skipped by every backend.
+    pub retired_joints: std::collections::BTreeSet<JointId>,
 }
 
 impl Model {
+    /// Whether an edit replaced this joint (it then constrains nothing).
+    pub fn is_retired(&self, j: JointId) -> bool {
+        self.retired_joints.contains(&j)
+    }
+
+    /// The joints in force, with their ids (retired ones skipped).
+    pub fn active_joints(&self) -> impl Iterator<Item = (JointId, &Joint)> + '_ {
+        self.joints
+            .iter()
+            .enumerate()
+            .map(|(k, j)| (JointId(k as u32), j))
+            .filter(|(id, _)| !self.is_retired(*id))
+    }
+
     pub fn ground(&self) -> Option<PartId> {
         self.parts
             .iter()
@@ -214,7 +234,12 @@ impl Model {
             l.position.iter_mut().for_each(&mut f);
         }
         for b in &mut self.bushings {
-            for l in b.translational.iter_mut().chain(b.rotational.iter_mut()) {
+            for l in b
+                .translational
+                .stored_mut()
+                .into_iter()
+                .chain(b.rotational.stored_mut())
+            {
                 law(l, &mut f);
             }
             for v in b

@@ -21,10 +21,10 @@ pub struct Equation {
 /// All equations of the model, joint by joint in declaration order.
 pub fn equations(model: &Model) -> Vec<Equation> {
     let mut out = Vec::new();
-    for (k, j) in model.joints.iter().enumerate() {
+    for (id, j) in model.active_joints() {
         for &p in j.kind.equations() {
             out.push(Equation {
-                joint: JointId(k as u32),
+                joint: id,
                 primitive: p,
             });
         }

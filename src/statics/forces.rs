@@ -312,11 +312,11 @@ mod tests {
         for seed in 0..4u64 {
             let mut model = force_model(seed % 2 == 0, seed);
             let b = &mut model.bushings[0];
-            b.rotational = [
+            b.rotational = crate::model::AxisLaws::General([
                 AxisLaw::linear(0.0),
                 AxisLaw::linear(0.0),
                 AxisLaw::linear(0.0),
-            ];
+            ]);
             b.torque_preload = crate::model::vals([0.0; 3]);
             let layout = Layout::new(&model);
             let mut rng = Lcg::new(seed);

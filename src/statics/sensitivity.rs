@@ -29,7 +29,8 @@ use super::newton::{Solver, Workspace, col_scale};
 use super::{Problem, StaticsError, StaticsErrorKind, forces};
 use crate::geom::{Mat3, Vec3, skew};
 use crate::model::address::Address;
-use crate::model::{AxisLaw, ElementId, Model, Orientation, PartId, PointLoad, SpringLaw, Val};
+use crate::model::schema::FieldId;
+use crate::model::{ElementId, Model, Orientation, PartId, PointLoad};
 use nalgebra::{DMatrix, DVector, Matrix3xX};
 
 /// A value of a model that a caller can read and set (internal units).
@@ -59,13 +60,14 @@ impl Parameter for Address {
     }
 
     fn moves_geometry(&self, model: &Model) -> bool {
-        match *self {
-            Address::JointPoint(..) => true,
-            Address::Param(p) => model.markers.iter().any(|m| {
+        match self.element {
+            ElementId::Param(p) => model.markers.iter().any(|m| {
                 m.position.iter().any(|v| v.param == Some(p))
                     || matches!(&m.orientation, Orientation::Euler(e) if e.iter().any(|v| v.param == Some(p)))
             }),
-            _ => false,
+            // Landmarks are observations, not constraint geometry.
+            ElementId::Landmark(_) => false,
+            _ => self.field == FieldId::Position,
         }
     }
 
@@ -75,38 +77,16 @@ impl Parameter for Address {
 
     fn force_element(&self, model: &Model) -> Option<ElementId> {
         // A field bound to a declared parameter sets that parameter, and so
-        // every element bound to it.
-        let free = |v: &Val| v.param.is_none();
-        match *self {
-            Address::BushingK(b, n) | Address::BushingKt(b, n) => {
-                let bush = model.bushings.get(b.index())?;
-                let law = match self {
-                    Address::BushingK(..) => &bush.translational[n],
-                    _ => &bush.rotational[n],
-                };
-                match law {
-                    AxisLaw::Linear { k, .. } if free(k) => Some(ElementId::Bushing(b)),
-                    _ => None,
-                }
+        // every element bound to it; a friction element's force depends on
+        // its history, so the whole residual is differenced.
+        let free = self.val(model).is_some_and(|v| v.param.is_none());
+        match self.element {
+            ElementId::Bushing(_) | ElementId::Spring(_) | ElementId::Stop(_)
+                if free && self.field != FieldId::Position =>
+            {
+                Some(self.element)
             }
-            Address::SpringK(sp) | Address::SpringFreeLength(sp) | Address::SpringPreload(sp) => {
-                match &model.springs.get(sp.index())?.law {
-                    SpringLaw::Linear {
-                        k,
-                        free_length,
-                        preload,
-                    } => {
-                        let v = match self {
-                            Address::SpringK(_) => k,
-                            Address::SpringFreeLength(_) => free_length,
-                            _ => preload,
-                        };
-                        free(v).then_some(ElementId::Spring(sp))
-                    }
-                    SpringLaw::Table(_) => None,
-                }
-            }
-            Address::Param(_) | Address::JointPoint(..) => None,
+            _ => None,
         }
     }
 }

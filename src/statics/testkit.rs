@@ -75,11 +75,11 @@ pub fn force_model(ground_j: bool, seed: u64) -> Model {
     let bi = marker(&mut m, 1, "bi", &mut rng);
     let bj = marker(&mut m, jp, "bj", &mut rng);
     let mut b = Bushing::linear("b", bi, bj, [300.0, 2000.0, 900.0], [4e5, 2e5, 7e5]);
-    b.translational[1] = AxisLaw::Linear {
+    *b.translational.get_mut(1) = AxisLaw::Linear {
         k: Val::lit(500.0),
         k3: Val::lit(3.0),
     };
-    b.rotational[2] = AxisLaw::Table(Table {
+    *b.rotational.get_mut(2) = AxisLaw::Table(Table {
         points: vec![(-1.0, -9e5), (0.0, 0.0), (0.2, 1e5), (1.0, 9e5)],
     });
     b.offset = vals([0.5, -0.2, 0.1]);

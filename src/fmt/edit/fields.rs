@@ -23,7 +23,13 @@ fn law_vals(l: &mut AxisLaw, f: &mut dyn FnMut(&mut Val)) {
 }
 
 pub fn bushing_vals(b: &mut Bushing, f: &mut dyn FnMut(&mut Val)) {
-    for l in b.translational.iter_mut().chain(b.rotational.iter_mut()) {
+    // An axisymmetric radial law is one stored law: visited once.
+    for l in b
+        .translational
+        .stored_mut()
+        .into_iter()
+        .chain(b.rotational.stored_mut())
+    {
         law_vals(l, f);
     }
     for v in b
