@@ -87,7 +87,7 @@ fn slider_crank_only_k_x() {
         }
     }
     // One equation per step (18 coordinates, constraint rank 17).
-    assert!(r.notes[0].contains("(1 per step"), "{}", r.notes[0]);
+    assert!(r.notes[0].text().contains("(1 per step"), "{}", r.notes[0]);
 }
 
 /// Table 4.3 and eq. 4.55: the four-bar over ten cases. Translational
@@ -104,7 +104,7 @@ fn four_bar_out_of_plane_torsions_only_as_sums() {
     assert_eq!(u.len(), 12);
     let r = identify::direct::identify(&m, &u, &data, Default::default()).expect("identifies");
     assert_eq!(r.rank, 10, "singular values {:?}", r.singular_values);
-    assert!(r.notes[0].contains("(8 per step"), "{}", r.notes[0]);
+    assert!(r.notes[0].text().contains("(8 per step"), "{}", r.notes[0]);
     for b in ["b1", "b2"] {
         for f in ["k_x", "k_y", "k_z"] {
             let (_, p) = param(&r, &format!("{b}.{f}"));
@@ -344,8 +344,19 @@ fn mcpherson_lsq_all_sixteen_unknowns_converge_and_cover() {
             r.iterations, r.sigma0
         );
         assert!(r.iterations < opts.max_iterations, "{:?}", r.notes);
-        assert!(!r.notes.iter().any(|n| n.contains("not converged")));
-        assert!(r.notes.iter().any(|n| n.contains("not searched")));
+        // The weak directions are data: a `Frozen` note with the threshold used.
+        assert!(
+            !r.notes
+                .iter()
+                .any(|n| matches!(n, identify::FitNote::NotConverged { .. }))
+        );
+        assert!(
+            r.notes.iter().any(|n| matches!(n,
+                identify::FitNote::Frozen { count, below } if *count > 0 && *below == opts.freeze_below)),
+            "{:?}",
+            r.notes
+        );
+        assert!(r.notes.iter().any(|n| n.text().contains("not searched")));
         assert!(r.sigma0.expect("sigma0") < 1.3);
         for ((un, p), tu) in r.unknowns.iter().zip(&r.params).zip(&u_truth) {
             let b = |v: f64| axle::units::to_boundary(v, un.dim);
@@ -704,7 +715,11 @@ fn lsq_kc_channels_narrow_the_intervals() {
     let u0 = identify::select_unknowns(&init, &names).expect("unknowns");
     let a = identify::lsq::identify(&init, &u0, &plain, Default::default()).expect("lsq");
     let b = identify::lsq::identify(&init, &u0, &with_kc, Default::default()).expect("lsq");
-    assert!(b.notes[0].contains(&format!("{} independent", 6 * 4 * 13 + 5 * 13)));
+    assert!(
+        b.notes[0]
+            .text()
+            .contains(&format!("{} independent", 6 * 4 * 13 + 5 * 13))
+    );
     for (x, truth_x) in u0.iter().zip(&u) {
         let name = &x.names[0];
         let (_, pa) = param(&a, name);
@@ -788,7 +803,7 @@ fn lsq_intervals_cover_the_truth_with_the_chassis_registration() {
         assert!(data.steps.iter().all(|s| s.ground.is_some()));
         let r = identify::lsq::identify(&init, &u0, &data, Default::default()).expect("lsq");
         assert!(
-            r.notes.iter().any(|n| n.contains("registration")),
+            r.notes.iter().any(|n| n.text().contains("registration")),
             "{:?}",
             r.notes
         );
@@ -894,7 +909,7 @@ fn truth_outside_the_declared_bounds_is_reported() {
     assert!(
         r.notes
             .iter()
-            .any(|n| n.contains("outside its declared bounds"))
+            .any(|n| n.text().contains("outside its declared bounds"))
     );
     // Iterative from noise-free landmarks along Table 5-1.
     let data = measured_from_landmarks(&truth, "thesis_table_5_1", 0.0, 3);

@@ -8,7 +8,7 @@
 use super::Exit;
 use crate::diagnostic::{Diagnostic, render};
 use crate::identify::measured::Measured;
-use crate::identify::{self, BoundIssue, Identified};
+use crate::identify::{self, BoundIssue, FitNote, Identified};
 use crate::measure::inputs;
 use crate::source::SourceMap;
 use crate::units::{from_boundary, to_boundary};
@@ -248,7 +248,7 @@ fn write_report(
     initial: &crate::model::Model,
     r: &Identified,
     data: &Measured,
-) -> Result<Vec<String>, Failure> {
+) -> Result<Vec<identify::FitNote>, Failure> {
     let curves = identify::report::curves(initial, &r.apply(initial), data)
         .map_err(|e| Failure::input(e.to_diagnostic(initial)))?;
     let report_error = |what: String| Failure(vec![Diagnostic::error("E1109", what)], Exit::Io);
@@ -269,7 +269,7 @@ fn write_report(
             initial: [c.rms(&c.initial, false), c.rms(&c.initial, true)],
             identified: [c.rms(&c.identified, false), c.rms(&c.identified, true)],
         };
-        notes.push(note.text());
+        notes.push(note);
     }
     Ok(notes)
 }
@@ -320,7 +320,7 @@ pub fn to_json(r: &Identified) -> Value {
             "parameters": labels,
             "matrix": c.iter().map(|row| row.iter().map(|v| num(*v)).collect::<Vec<_>>()).collect::<Vec<_>>(),
         })),
-        "notes": r.notes,
+        "notes": r.notes.iter().map(FitNote::text).collect::<Vec<_>>(),
     })
 }
 

@@ -14,7 +14,7 @@ use super::columns::{column, is_affine, total_force};
 use super::combinations::determine;
 use super::linalg::{null_space, rank, svd, truncated_solve};
 use super::measured::{Measured, unmeasured};
-use super::{Identified, IdentifyError, Method, ParamResult, Unknown};
+use super::{FitNote, Identified, IdentifyError, IdentifyErrorKind, Method, ParamResult, Unknown};
 use crate::model::address::Address;
 use crate::model::schema::FieldId;
 use crate::model::{ElementId, Model};
@@ -92,8 +92,7 @@ fn stack(
     lins: &[Lin],
     data: &Measured,
 ) -> Result<Stacked, IdentifyError> {
-    let problem = Problem::new(model)
-        .map_err(|e| IdentifyError::new(e.message(model), e.elements.clone()))?;
+    let problem = Problem::new(model).map_err(|e| IdentifyError::statics("", e, model))?;
     let layout = Layout::new(model);
     let n = layout.n();
     let eqs = constraint::equations(model);
@@ -108,7 +107,8 @@ fn stack(
         let state = data.state(k);
         let sj = scaled_jacobian(model, &layout, &state, &eqs, &all, problem.length);
         let l = null_space(&sj.jac, 1e-9).ok_or_else(|| {
-            IdentifyError::new(
+            IdentifyError::of(
+                IdentifyErrorKind::Numeric,
                 format!(
                     "step {}: the constraint Jacobian is not finite",
                     data.steps[k].step
@@ -159,7 +159,8 @@ pub fn identify(
         return Err(unmeasured(model, p, "direct"));
     }
     if let Some(u) = unknowns.iter().find(|u| !is_affine(model, u)) {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Method,
             format!(
                 "the direct method needs equilibrium equations linear in the unknowns, and `{}` moves the geometry; use --method lsq",
                 u.label()
@@ -171,7 +172,8 @@ pub fn identify(
     let st = stack(model, unknowns, &lins, data)?;
     let (m, nl) = (st.a.nrows(), st.a.ncols());
     if m == 0 {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Undetermined,
             "the mechanism has no admissible motion, so its equilibria say nothing about the stiffnesses",
             vec![],
         ));
@@ -202,7 +204,8 @@ pub fn identify(
         .collect();
     let a_s = DMatrix::from_fn(m, nl, |i, j| st.a[(i, j)] / cn[j]);
     let d = svd(&a_s, m < nl).ok_or_else(|| {
-        IdentifyError::new(
+        IdentifyError::of(
+            IdentifyErrorKind::Numeric,
             "the identification matrix is not finite (bad measured poses?)",
             vec![],
         )
@@ -327,15 +330,13 @@ pub fn identify(
         p.identifiable = true;
         p.interval = Some((v - half, v + half));
     }
-    let mut notes = Vec::new();
-    notes.push(format!(
-        "{} steps, {} equations ({} per step after eliminating the joint reactions), {} linear unknowns, rank {}",
-        data.steps.len(),
-        m,
-        m / data.steps.len().max(1),
-        nl,
-        r
-    ));
+    let notes = vec![FitNote::DirectSize {
+        steps: data.steps.len(),
+        equations: m,
+        per_step: m / data.steps.len().max(1),
+        unknowns: nl,
+        rank: r,
+    }];
     let mut out = Identified {
         method: Method::Direct,
         unknowns: unknowns.to_vec(),

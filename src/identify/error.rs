@@ -9,7 +9,9 @@ use crate::statics::StaticsError;
 /// What kind of failure; each has its code (`docs/language.md`, "codes").
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum IdentifyErrorKind {
-    /// Not yet classified at its site (its sentence says what happened).
+    /// Left only at the sites of `identify/unknowns.rs` (an `--unknown` that
+    /// does not parse, nothing to identify), which the general addresses are
+    /// reworking; every solve loop gives its failures a kind of its own.
     Failed,
     /// The measured data and the model do not fit together (steps without
     /// loads, case counts, no pose).
@@ -81,7 +83,7 @@ pub struct IdentifyError {
 }
 
 impl IdentifyError {
-    /// A failure not yet classified (kind [`IdentifyErrorKind::Failed`]).
+    /// A failure of kind [`IdentifyErrorKind::Failed`] (see there).
     pub fn new(message: impl Into<String>, elements: Vec<ElementId>) -> IdentifyError {
         IdentifyError::of(IdentifyErrorKind::Failed, message, elements)
     }
@@ -181,8 +183,44 @@ pub enum FitNote {
         initial: [f64; 2],
         identified: [f64; 2],
     },
-    /// A remark from a method not yet given a variant of its own.
-    Remark(String),
+    /// The size of a direct fit: steps, equations (per step after the joint
+    /// reactions are eliminated), linear unknowns, rank.
+    DirectSize {
+        steps: usize,
+        equations: usize,
+        per_step: usize,
+        unknowns: usize,
+        rank: usize,
+    },
+    /// The size of a least-squares fit and its a posteriori sigma factor.
+    LsqSize {
+        observations: usize,
+        unknowns: usize,
+        registered: bool,
+        sigma0: f64,
+    },
+    /// The iterative method converged to `tolerance` (relative).
+    Converged { tolerance: f64, iterations: usize },
+    /// Unknowns the iterative method left out (by label).
+    NotIterative { unknowns: Vec<String> },
+    /// An initial value outside the declared bounds, projected onto them
+    /// (boundary units).
+    StartsAtBound {
+        unknown: String,
+        value: f64,
+        initial: f64,
+    },
+    /// The registration to the model frame re-estimated with the unknowns:
+    /// its correction (mm, rad).
+    Registered { translation: f64, angle: f64 },
+    /// `count` directions of the parameter space with a singular value below
+    /// `below` were not searched.
+    Frozen { count: usize, below: f64 },
+    /// The iteration limit was reached while a Gauss-Newton step would still
+    /// move a variable by `remaining` standard errors.
+    NotConverged { iterations: usize, remaining: f64 },
+    /// `count` unknowns held at a declared bound, of `unknowns`.
+    HeldAtBound { count: usize, unknowns: usize },
 }
 
 impl FitNote {
@@ -200,7 +238,65 @@ impl FitNote {
                 "report {path}: {steps} measured steps; RMS toe / camber against measured: initial {:.4} / {:.4} deg, identified {:.4} / {:.4} deg",
                 initial[0], initial[1], identified[0], identified[1]
             ),
-            FitNote::Remark(s) => s.clone(),
+            FitNote::DirectSize {
+                steps,
+                equations,
+                per_step,
+                unknowns,
+                rank,
+            } => format!(
+                "{steps} steps, {equations} equations ({per_step} per step after eliminating the joint reactions), {unknowns} linear unknowns, rank {rank}"
+            ),
+            FitNote::LsqSize {
+                observations,
+                unknowns,
+                registered,
+                sigma0,
+            } => format!(
+                "{observations} independent observations (6 per fitted pose, 1 per K&C channel), {unknowns} unknowns{}; a posteriori sigma factor {sigma0:.3}",
+                if *registered {
+                    " and 6 registration variables"
+                } else {
+                    ""
+                }
+            ),
+            FitNote::Converged {
+                tolerance,
+                iterations,
+            } => format!("converged to relative tolerance {tolerance} in {iterations} iterations"),
+            FitNote::NotIterative { unknowns } => format!(
+                "not identified by the iterative method (not a bushing stiffness, or a part of the bushing has no measured pose): {}",
+                unknowns.join(", ")
+            ),
+            FitNote::StartsAtBound {
+                unknown,
+                value,
+                initial,
+            } => format!(
+                "{unknown} starts at its declared bound {value:.4e}: its initial value {initial:.4e} lies outside"
+            ),
+            FitNote::Registered { translation, angle } => format!(
+                "the registration to the model frame (fitted from the ground's landmarks) was re-estimated with the unknowns, and its uncertainty is in their intervals: correction {translation:.4} mm, {angle:.2e} rad"
+            ),
+            FitNote::Frozen { count, below } => format!(
+                "{count} direction(s) of the parameter space were not searched (singular value below {below}: one standard error there spans more than a factor e of the stiffnesses), so the parameters along them stay near their initial values and are not identifiable; the intervals include their uncertainty"
+            ),
+            FitNote::NotConverged {
+                iterations,
+                remaining,
+            } => format!(
+                "not converged in {iterations} iterations: a Gauss–Newton step would still move a variable by {remaining:.2} standard errors (a sloppy, curved valley of parameters the data hardly determine); the intervals are taken at the last iterate"
+            ),
+            FitNote::HeldAtBound { count, unknowns } => format!(
+                "{count} unknown(s) held at a declared bound; rank and singular values are of the other {}",
+                unknowns - count
+            ),
         }
+    }
+}
+
+impl std::fmt::Display for FitNote {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.text())
     }
 }

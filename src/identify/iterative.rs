@@ -11,7 +11,10 @@
 //! previous one, so after the first pass a solve is a few Newton iterations.
 
 use super::measured::Measured;
-use super::{HistoryEntry, Identified, IdentifyError, Method, ParamResult, Unknown};
+use super::{
+    FitNote, HistoryEntry, Identified, IdentifyError, IdentifyErrorKind, Method, ParamResult,
+    Unknown,
+};
 use crate::model::address::Address;
 use crate::model::{BushingId, ElementId, Model};
 use crate::statics::coords::Layout;
@@ -47,7 +50,7 @@ fn set_values(
     for (u, v) in unknowns.iter().zip(values) {
         problem
             .set_force_parameter(u, *v)
-            .map_err(|e| IdentifyError::new(e.message(problem.model()), e.elements.clone()))?;
+            .map_err(|e| IdentifyError::statics("", e, problem.model()))?;
     }
     Ok(())
 }
@@ -64,7 +67,7 @@ pub fn restrict(
     model: &Model,
     unknowns: &[Unknown],
     data: &Measured,
-) -> (Vec<Unknown>, Vec<String>) {
+) -> (Vec<Unknown>, Vec<FitNote>) {
     let mut kept = Vec::new();
     let mut left = Vec::new();
     for u in unknowns {
@@ -83,10 +86,7 @@ pub fn restrict(
     let notes = if left.is_empty() {
         vec![]
     } else {
-        vec![format!(
-            "not identified by the iterative method (not a bushing stiffness, or a part of the bushing has no measured pose): {}",
-            left.join(", ")
-        )]
+        vec![FitNote::NotIterative { unknowns: left }]
     };
     (kept, notes)
 }
@@ -120,7 +120,8 @@ pub fn identify(
             .find_map(|a| axis(*a))
             .filter(|_| u.addrs.iter().all(|a| axis(*a).is_some()))
         else {
-            return Err(IdentifyError::new(
+            return Err(IdentifyError::of(
+                IdentifyErrorKind::Method,
                 format!(
                     "the iterative method identifies bushing stiffnesses only, not `{}`; use --method lsq or direct",
                     u.label()
@@ -132,7 +133,8 @@ pub fn identify(
         for m in [bu.i, bu.j] {
             let part = model.marker(m).part;
             if !data.has_part(part) {
-                return Err(IdentifyError::new(
+                return Err(IdentifyError::of(
+                    IdentifyErrorKind::Method,
                     format!(
                         "bushing `{}` cannot be identified iteratively: part `{}` has no measured pose at every step",
                         bu.name,
@@ -144,7 +146,8 @@ pub fn identify(
         }
     }
     if data.steps.len() < 2 {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Undetermined,
             "the iterative method regresses over steps and needs at least 2",
             vec![],
         ));
@@ -174,8 +177,7 @@ pub fn identify(
                 .collect()
         })
         .collect();
-    let mut problem = Problem::new(model)
-        .map_err(|e| IdentifyError::new(e.message(model), e.elements.clone()))?;
+    let mut problem = Problem::new(model).map_err(|e| IdentifyError::statics("", e, model))?;
     let mut values: Vec<f64> = unknowns.iter().map(|u| u.initial).collect();
     set_values(&mut problem, unknowns, &values)?;
     let mut history = vec![HistoryEntry {
@@ -197,13 +199,13 @@ pub fn identify(
             &states,
         );
         if let Some(e) = run.failure {
-            return Err(IdentifyError::new(
+            return Err(IdentifyError::statics(
                 format!(
-                    "iteration {it}, step {}: the model with the current stiffnesses does not solve: {}",
+                    "iteration {it}, step {}: the model with the current stiffnesses does not solve",
                     data.steps[e.case].step,
-                    e.error.message(model)
                 ),
-                e.error.elements.clone(),
+                e.error,
+                model,
             ));
         }
         states = run.steps.into_iter().map(|e| e.state).collect();
@@ -307,16 +309,17 @@ pub fn identify(
                 history,
                 correlation: None,
                 sigma0: None,
-                notes: vec![format!(
-                    "converged to relative tolerance {} in {it} iterations",
-                    opts.tolerance
-                )],
+                notes: vec![FitNote::Converged {
+                    tolerance: opts.tolerance,
+                    iterations: it,
+                }],
             };
             super::flag_outside_bounds(&mut out);
             return Ok(out);
         }
         if it == opts.max_iterations {
-            return Err(IdentifyError::new(
+            return Err(IdentifyError::of(
+                IdentifyErrorKind::NotConverged,
                 format!(
                     "no convergence in {it} iterations: {} still change by more than {} (relative)",
                     changed
@@ -330,7 +333,8 @@ pub fn identify(
             ));
         }
     }
-    Err(IdentifyError::new(
+    Err(IdentifyError::of(
+        IdentifyErrorKind::Options,
         "no iteration was allowed (max_iterations is 0)",
         vec![],
     ))

@@ -17,7 +17,7 @@ use super::fit_stats::{Fit, statistics};
 use super::linalg::{solve, svd};
 use super::measured::Measured;
 use super::observations::{Problemset, REG, observations};
-use super::{BoundIssue, Identified, IdentifyError, Method, Unknown};
+use super::{BoundIssue, FitNote, Identified, IdentifyError, IdentifyErrorKind, Method, Unknown};
 use crate::model::Model;
 use crate::statics::Problem;
 use nalgebra::{DMatrix, DVector};
@@ -218,13 +218,13 @@ pub fn identify(
     let nr = if registered { REG } else { 0 };
     let nx = nu + nr;
     if n_eff <= nx {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Undetermined,
             format!("{n_eff} independent observations cannot determine {nu} unknowns"),
             vec![],
         ));
     }
-    let base = Problem::new(model)
-        .map_err(|e| IdentifyError::new(e.message(model), e.elements.clone()))?;
+    let base = Problem::new(model).map_err(|e| IdentifyError::statics("", e, model))?;
     let ps = Problemset {
         model,
         base,
@@ -255,12 +255,11 @@ pub fn identify(
     let mut x = DVector::from_fn(nx, |i, _| project(x0[i], lo[i], hi[i]));
     for (i, u) in unknowns.iter().enumerate() {
         if x[i] != x0[i] {
-            notes.push(format!(
-                "{} starts at its declared bound {:.4e}: its initial value {:.4e} lies outside",
-                u.label(),
-                crate::units::to_boundary(to_param(u, x[i]), u.dim),
-                crate::units::to_boundary(u.initial, u.dim)
-            ));
+            notes.push(FitNote::StartsAtBound {
+                unknown: u.label(),
+                value: crate::units::to_boundary(to_param(u, x[i]), u.dim),
+                initial: crate::units::to_boundary(u.initial, u.dim),
+            });
         }
     }
     // A variable sits on a bound with the cost's gradient pushing it out.
@@ -388,41 +387,39 @@ pub fn identify(
     let s0 = stats.sigma0;
     notes.insert(
         0,
-        format!(
-            "{n_eff} independent observations (6 per fitted pose, 1 per K&C channel), {nu} unknowns{}; a posteriori sigma factor {s0:.3}",
-            if registered {
-                " and 6 registration variables"
-            } else {
-                ""
-            }
-        ),
+        FitNote::LsqSize {
+            observations: n_eff,
+            unknowns: nu,
+            registered,
+            sigma0: s0,
+        },
     );
     if registered {
         let (rot, t) = ps.correction(&x);
         let angle = nalgebra::Rotation3::from_matrix_unchecked(rot).angle();
-        notes.push(format!(
-            "the registration to the model frame (fitted from the ground's landmarks) was re-estimated with the unknowns, and its uncertainty is in their intervals: correction {:.4} mm, {:.2e} rad",
-            t.norm(),
-            angle
-        ));
+        notes.push(FitNote::Registered {
+            translation: t.norm(),
+            angle,
+        });
     }
     if last_frozen > 0 {
-        notes.push(format!(
-            "{last_frozen} direction(s) of the parameter space were not searched (singular value below {}: one standard error there spans more than a factor e of the stiffnesses), so the parameters along them stay near their initial values and are not identifiable; the intervals include their uncertainty",
-            opts.freeze_below
-        ));
+        notes.push(FitNote::Frozen {
+            count: last_frozen,
+            below: opts.freeze_below,
+        });
     }
     if iterations >= opts.max_iterations && last_remaining >= 0.2 {
-        notes.push(format!(
-            "not converged in {iterations} iterations: a Gauss–Newton step would still move a variable by {last_remaining:.2} standard errors (a sloppy, curved valley of parameters the data hardly determine); the intervals are taken at the last iterate"
-        ));
+        notes.push(FitNote::NotConverged {
+            iterations,
+            remaining: last_remaining,
+        });
     }
     let held = stats.params.iter().filter(|p| p.bound.is_some()).count();
     if held > 0 {
-        notes.push(format!(
-            "{held} unknown(s) held at a declared bound; rank and singular values are of the other {}",
-            nu - held
-        ));
+        notes.push(FitNote::HeldAtBound {
+            count: held,
+            unknowns: nu,
+        });
     }
     let rank = stats.rank;
     Ok(Identified {

@@ -115,7 +115,7 @@ pub(crate) fn flag_outside_bounds(r: &mut Identified) {
             text,
             method: r.method.name(),
         };
-        r.notes.push(note.text());
+        r.notes.push(note);
     }
 }
 
@@ -197,7 +197,7 @@ pub struct Identified {
     /// the fit matches the stated noise).
     pub sigma0: Option<f64>,
     /// Remarks for the user (left-out data, restrictions applied).
-    pub notes: Vec<String>,
+    pub notes: Vec<FitNote>,
 }
 
 impl Identified {

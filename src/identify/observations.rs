@@ -126,7 +126,7 @@ impl Problemset<'_> {
     /// in place (the constraint analysis is not compiled again), or a
     /// recompiled one when an unknown moves geometry.
     fn problem_at(&self, x: &DVector<f64>) -> Result<Problem, IdentifyError> {
-        let err = |m: &Model, e: StaticsError| IdentifyError::new(e.message(m), e.elements.clone());
+        let err = |m: &Model, e: StaticsError| IdentifyError::statics("", e, m);
         if self.unknowns.iter().any(|u| u.moves_geometry(self.model)) {
             let mut m = self.model.clone();
             for (u, xi) in self.unknowns.iter().zip(x.iter()) {
@@ -181,24 +181,21 @@ impl Problemset<'_> {
                     )
                 })
                 .collect();
-            return Err(IdentifyError::new(
+            return Err(IdentifyError::statics(
                 format!(
-                    "step {}: the model does not solve at the trial values ({}): {}",
+                    "step {}: the model does not solve at the trial values ({})",
                     self.data.steps[e.case].step,
                     names.join(", "),
-                    e.error.message(&m)
                 ),
-                e.error.elements.clone(),
+                e.error,
+                &m,
             ));
         }
         let sens = sens.map_err(|e| {
-            IdentifyError::new(
-                format!(
-                    "step {}: {}",
-                    self.data.steps.get(e.case).map_or(0, |s| s.step),
-                    e.error.message(&m)
-                ),
-                e.error.elements.clone(),
+            IdentifyError::statics(
+                format!("step {}", self.data.steps.get(e.case).map_or(0, |s| s.step)),
+                e.error,
+                &m,
             )
         })?;
         let mut res = Vec::new();
