@@ -9,10 +9,6 @@ use crate::statics::StaticsError;
 /// What kind of failure; each has its code (`docs/language.md`, "codes").
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum IdentifyErrorKind {
-    /// Left only at the sites of `identify/unknowns.rs` (an `--unknown` that
-    /// does not parse, nothing to identify), which the general addresses are
-    /// reworking; every solve loop gives its failures a kind of its own.
-    Failed,
     /// The measured data and the model do not fit together (steps without
     /// loads, case counts, no pose).
     Data,
@@ -40,7 +36,6 @@ pub enum IdentifyErrorKind {
 impl IdentifyErrorKind {
     pub fn code(self) -> &'static str {
         match self {
-            IdentifyErrorKind::Failed => "E1100",
             IdentifyErrorKind::Data => "E1101",
             IdentifyErrorKind::Options => "E1102",
             IdentifyErrorKind::Unknowns => "E1103",
@@ -83,11 +78,6 @@ pub struct IdentifyError {
 }
 
 impl IdentifyError {
-    /// A failure of kind [`IdentifyErrorKind::Failed`] (see there).
-    pub fn new(message: impl Into<String>, elements: Vec<ElementId>) -> IdentifyError {
-        IdentifyError::of(IdentifyErrorKind::Failed, message, elements)
-    }
-
     pub fn of(
         kind: IdentifyErrorKind,
         message: impl Into<String>,

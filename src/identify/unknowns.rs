@@ -170,7 +170,8 @@ pub fn select_unknowns(model: &Model, names: &[String]) -> Result<Vec<Unknown>, 
         out.push(Unknown::new(model, group));
     }
     if out.is_empty() {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::of(
+            super::IdentifyErrorKind::Unknowns,
             "nothing to identify: the model has no linear bushing or spring and no parameter marked unknown",
             vec![],
         ));
