@@ -168,11 +168,12 @@ fn results(cand: &Candidate, f: &Fitted) -> Vec<ParamResult> {
         .enumerate()
         .map(|(i, p)| {
             let shown = |x: f64| to_boundary(p.scale.value(x), p.dim);
-            let interval = f.interval(i).map(|(a, b)| {
+            let search = f.interval(i);
+            let determined = search.is_some_and(|(a, b)| determined(p, f.x[i], a, b));
+            let interval = search.map(|(a, b)| {
                 let (a, b) = (shown(a.max(p.lo)), shown(b.min(p.hi)));
                 (a.min(b), a.max(b))
             });
-            let determined = interval.is_some_and(|(a, b)| determined(p, shown(f.x[i]), a, b));
             ParamResult {
                 name: p.name.clone(),
                 unit: p.dim.boundary_unit(),
@@ -186,14 +187,12 @@ fn results(cand: &Candidate, f: &Fitted) -> Vec<ParamResult> {
 }
 
 /// A parameter is determined when its 95 % interval is within a factor 1.5
-/// (a ratio) or narrower than half its value or one probe (a length).
-fn determined(p: &CandParam, v: f64, lo: f64, hi: f64) -> bool {
+/// either way (a ratio), or when its half-width is below half the change
+/// fitted or one probe step (a length: a joint point, a free length).
+fn determined(p: &CandParam, x: f64, lo: f64, hi: f64) -> bool {
     match p.scale {
-        Scale::Log { .. } => lo > 0.0 && hi / lo < 1.5 * 1.5,
-        Scale::Linear { unit, .. } => {
-            let probe = to_boundary(p.probe.abs() * unit.abs(), p.dim);
-            (hi - lo) / 2.0 < (0.5 * v.abs()).max(probe)
-        }
+        Scale::Log { .. } => (hi - lo) / 2.0 < 1.5f64.ln(),
+        Scale::Linear { .. } => (hi - lo) / 2.0 < (0.5 * x.abs()).max(p.probe.abs()),
     }
 }
 
