@@ -59,6 +59,8 @@ pub struct ParamResult {
 pub struct Hypothesis {
     pub kind: Kind,
     pub element: ElementId,
+    /// The element of the extended model that carries the change.
+    pub changed: ElementId,
     pub element_name: String,
     pub detail: String,
     pub params: Vec<ParamResult>,
@@ -196,6 +198,34 @@ fn determined(p: &CandParam, x: f64, lo: f64, hi: f64) -> bool {
     }
 }
 
+/// The fitted point with each model value rounded to a tenth of its
+/// standard error (at least six significant digits kept; four for an
+/// undetermined one), so the extended file reads `775.3`, not `775.2817…`.
+fn rounded(c: &Candidate, f: &Fitted) -> Vec<f64> {
+    c.params
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let v = p.scale.value(f.x[i]);
+            let d = (p.scale.value(f.x[i] + 1e-6) - v).abs() / 1e-6;
+            let sd = d * f.sd[i];
+            let mag = v.abs().max(1e-300).log10().floor();
+            let step = if sd.is_finite() && sd > 0.0 {
+                10f64
+                    .powf((sd / 10.0).log10().floor())
+                    .max(10f64.powf(mag - 5.0))
+            } else {
+                10f64.powf(mag - 3.0)
+            };
+            let r = (v / step).round() * step;
+            // Printing a multiple of `step` exactly: round the decimal digits.
+            let digits = (-step.log10().floor()).clamp(0.0, 12.0) as i32;
+            let r = (r * 10f64.powi(digits)).round() / 10f64.powi(digits);
+            p.scale.search(r)
+        })
+        .collect()
+}
+
 struct Round {
     hypotheses: Vec<Hypothesis>,
     skipped: Vec<Skipped>,
@@ -265,7 +295,10 @@ fn round(
     for (i, f) in fits {
         let c = &cands[i];
         match f {
-            Ok(f) => {
+            Ok(mut f) => {
+                if let Ok(ext) = c.extend(model) {
+                    f.model = c.at(&ext, &rounded(c, &f));
+                }
                 let s = summary(ctx, &f.replay);
                 let fall = before.held_out_chi2 - s.held_out_chi2;
                 let score = fall - penalty(held) * c.params.len() as f64;
@@ -273,6 +306,7 @@ fn round(
                 hypotheses.push(Hypothesis {
                     kind: c.kind,
                     element: c.element,
+                    changed: c.changed(model),
                     element_name: c.element_name(model),
                     detail: c.detail.clone(),
                     params: results(c, &f),

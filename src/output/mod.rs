@@ -3,6 +3,9 @@
 //! a `String`; `cli/` decides where it goes.
 
 pub mod columns;
+pub mod diagnose_html;
+pub mod diagnose_json;
+pub mod diagnose_table;
 pub mod kc_table;
 pub mod number;
 pub mod parts_csv;
