@@ -3,10 +3,12 @@
 //! a `String`; `cli/` decides where it goes.
 
 pub mod columns;
+pub mod json;
 pub mod kc_table;
 pub mod number;
 pub mod parts_csv;
 pub mod plot;
 pub mod report;
+pub mod solve_json;
 pub mod solve_table;
 pub mod warning;
