@@ -249,3 +249,49 @@ fn random_500_json(b: Bencher) {
         axle::output::solve_json::solve(&m.name, &ls.name, &reports, None, None)
     });
 }
+
+/// 16 independent paths (table 5-1 scaled by 0.65..1.0, from design), the
+/// shape of a multi-start or candidate batch.
+fn batch_jobs() -> (Problem, Vec<axle::statics::batch::PathJob>) {
+    let (m, set) = mcpherson("thesis_table_5_1");
+    let base = axle::statics::path::set_loads(&m, set).expect("loads");
+    let design = axle::statics::State::design(&m);
+    let jobs = (0..16)
+        .map(|k| {
+            let s = 0.65 + 0.35 * k as f64 / 15.0;
+            let cases = base
+                .iter()
+                .map(|c| {
+                    c.iter()
+                        .map(|l| axle::model::PointLoad {
+                            force: l.force * s,
+                            torque: l.torque * s,
+                            ..*l
+                        })
+                        .collect()
+                })
+                .collect();
+            axle::statics::batch::PathJob {
+                cases,
+                start: design.clone(),
+            }
+        })
+        .collect();
+    (Problem::new(&m).expect("problem"), jobs)
+}
+
+/// The 16 paths on all cores (`statics::batch::paths`).
+#[divan::bench(sample_count = 50)]
+fn batch_16_paths_parallel(b: Bencher) {
+    let (p, jobs) = batch_jobs();
+    b.bench_local(|| axle::statics::batch::paths(&p, &jobs));
+}
+
+/// The same 16 paths one after the other on one thread.
+#[divan::bench(sample_count = 50)]
+fn batch_16_paths_serial(b: Bencher) {
+    let (p, jobs) = batch_jobs();
+    b.bench_local(|| {
+        axle::statics::batch::map_serial(&jobs, |sim, j| sim.run(&p, &j.cases, &j.start, &[]))
+    });
+}

@@ -8,6 +8,7 @@
 //! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`path`] (the
 //! one load-path simulator), [`sensitivity`] (derivatives of equilibria).
 
+pub mod batch;
 pub mod compliance;
 pub mod constraint;
 pub mod coords;
