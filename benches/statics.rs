@@ -44,6 +44,20 @@ fn main() {
         "thesis_table_5_1 extra load sub-steps per case, warm start: {}",
         subs.join(" ")
     );
+    // Newton steps of the N-corner bench, for the cost per step.
+    for n in [1, 2, 4, 8] {
+        let (m, set) = corners(n);
+        let p = Problem::new(&m).expect("problem");
+        let start = solve_path(&p, set)
+            .expect("solves")
+            .pop()
+            .expect("cases")
+            .state;
+        let warm = solve_path_from(&p, set, &start).expect("solves");
+        let steps: usize = warm.iter().map(|e| e.iterations).sum();
+        let lus: usize = warm.iter().map(|e| e.factorizations).sum();
+        println!("corners N = {n}: {steps} Newton steps, {lus} factorisations (warm set)");
+    }
     divan::main();
 }
 

@@ -9,6 +9,7 @@
 //! one load-path simulator), [`sensitivity`] (derivatives of equilibria).
 
 pub mod batch;
+pub mod blocks;
 pub mod compliance;
 pub mod constraint;
 pub mod coords;
