@@ -163,6 +163,12 @@ fn linear_k(laws: &AxisLaws, axis: Axis) -> Option<f64> {
     }
 }
 
+/// A stiffness is searched within a factor 10 of the model's: a bushing or
+/// spring farther from its drawing than that is a wrong part, not a
+/// tolerance, and without the bound a far-fetched stiffening of another
+/// element (35 times, seen) can mimic the real cause.
+const STIFFNESS_RANGE: f64 = std::f64::consts::LN_10;
+
 /// Every candidate of the kinds asked, for `model`.
 pub fn library(m: &Model, kinds: &[Kind], ranges: &Ranges) -> Vec<Candidate> {
     let mut out = Vec::new();
@@ -203,7 +209,15 @@ fn stiffness(m: &Model, out: &mut Vec<Candidate>) {
                     continue;
                 };
                 let a = Address::bushing(id, rot, axis.index());
-                let p = param(m, a, Scale::Log { reference: k }, -4.0, 4.0, 0.3, false);
+                let p = param(
+                    m,
+                    a,
+                    Scale::Log { reference: k },
+                    -STIFFNESS_RANGE,
+                    STIFFNESS_RANGE,
+                    0.3,
+                    false,
+                );
                 let what = if rot {
                     "torsional stiffness"
                 } else {
@@ -227,8 +241,8 @@ fn stiffness(m: &Model, out: &mut Vec<Candidate>) {
                     m,
                     a,
                     Scale::Log { reference: k.value },
-                    -4.0,
-                    4.0,
+                    -STIFFNESS_RANGE,
+                    STIFFNESS_RANGE,
                     0.3,
                     false,
                 );
@@ -243,8 +257,9 @@ fn stiffness(m: &Model, out: &mut Vec<Candidate>) {
     }
 }
 
-/// A joint point on one of its two parts, displaced in x, y, z (thesis ch. 2:
-/// assembly clearance moves a joint on the part that carries it).
+/// A joint's point displaced in x, y, z on both of its parts (thesis ch. 2:
+/// assembly clearance puts a joint elsewhere than drawn; the model's design
+/// configuration must stay assembled, so the joint moves as a whole).
 fn joint_location(m: &Model, out: &mut Vec<Candidate>) {
     for (jid, j) in m.active_joints() {
         if matches!(
@@ -253,34 +268,31 @@ fn joint_location(m: &Model, out: &mut Vec<Candidate>) {
         ) {
             continue;
         }
-        for mk in [j.i, j.j] {
-            let marker = m.marker(mk);
-            let params: Vec<CandParam> = Axis::ALL
-                .into_iter()
-                .map(|a| {
-                    let ad = address(ElementId::Marker(mk), FieldId::Position, Some(a));
-                    let origin = ad.get(m);
-                    param(
-                        m,
-                        ad,
-                        Scale::Linear { origin, unit: 1.0 },
-                        -20.0,
-                        20.0,
-                        1.0,
-                        false,
-                    )
-                })
-                .collect();
-            out.push(Candidate {
-                kind: Kind::JointLocation,
-                element: ElementId::Joint(jid),
-                detail: format!("on part `{}`", m.part(marker.part).name),
-                edits: vec![],
-                starts: vec![vec![0.0; 3]],
-                params,
-                zero_is_nominal: true,
-            });
-        }
+        let params: Vec<CandParam> = Axis::ALL
+            .into_iter()
+            .map(|a| {
+                let ad = address(ElementId::Joint(jid), FieldId::Position, Some(a));
+                let origin = ad.get(m);
+                param(
+                    m,
+                    ad,
+                    Scale::Linear { origin, unit: 1.0 },
+                    -20.0,
+                    20.0,
+                    1.0,
+                    false,
+                )
+            })
+            .collect();
+        out.push(Candidate {
+            kind: Kind::JointLocation,
+            element: ElementId::Joint(jid),
+            detail: String::new(),
+            edits: vec![],
+            starts: vec![vec![0.0; 3]],
+            params,
+            zero_is_nominal: true,
+        });
     }
 }
 
@@ -618,7 +630,10 @@ fn friction(m: &Model, out: &mut Vec<Candidate>) {
             detail: format!("on the {word} of joint `{}`", j.name),
             edits: vec![Edit::AddFriction(f)],
             params: vec![p],
-            starts: vec![vec![0.0]],
+            // Several limits (0.6, 2 and 6 times the reference): a
+            // stick-slip path that one limit does not solve (Newton at a
+            // slip transition) leaves the others.
+            starts: vec![vec![0.6f64.ln()], vec![2f64.ln()], vec![6f64.ln()]],
             zero_is_nominal: false,
         });
     }

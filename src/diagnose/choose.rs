@@ -20,7 +20,7 @@ use super::kind::Kind;
 use super::noise::{self, Noise};
 use super::replay::{Replay, ReplayError, designs, replay_states};
 use super::rig::RigPath;
-use super::screen::{Screened, screen};
+use super::screen::{Screened, screen, screen_at_nominal};
 use super::{Context, Options, channel};
 use crate::model::{ElementId, Model};
 use crate::statics::State;
@@ -108,6 +108,9 @@ pub struct Diagnosis {
     /// Candidates screened and fitted over all rounds.
     pub screened: usize,
     pub fitted: usize,
+    /// Wall time spent screening and fitting, over all rounds.
+    pub screen_time: std::time::Duration,
+    pub fit_time: std::time::Duration,
 }
 
 /// Why there is no diagnosis.
@@ -199,6 +202,8 @@ struct Round {
     skipped: Vec<Skipped>,
     screened: usize,
     fitted: usize,
+    screen_time: std::time::Duration,
+    fit_time: std::time::Duration,
 }
 
 /// One round: every candidate on `model` (whose replay is `rp`, states
@@ -217,12 +222,25 @@ fn round(
         .into_iter()
         .filter(|c| !found.contains(&(c.kind, c.element)))
         .collect();
-    let r0 = rp.residuals(ctx.rig, ctx.noise, &Subset::Training);
+    let t0 = std::time::Instant::now();
+    let mut skipped = Vec::new();
+    let at_nominal = match screen_at_nominal(ctx, &cands, model) {
+        Ok(s) => s,
+        Err(why) => {
+            skipped.push(Skipped {
+                kind: Kind::None,
+                element_name: String::new(),
+                detail: "screening at the nominal model".into(),
+                why,
+            });
+            vec![None; cands.len()]
+        }
+    };
     let screened: Vec<Screened> = cands
         .par_iter()
-        .map(|c| screen(ctx, c, model, &r0))
+        .zip(at_nominal)
+        .map(|(c, s)| s.unwrap_or_else(|| screen(ctx, c, model)))
         .collect();
-    let mut skipped = Vec::new();
     let mut order: Vec<usize> = Vec::new();
     for (i, s) in screened.iter().enumerate() {
         match &s.failed {
@@ -237,10 +255,12 @@ fn round(
     }
     order.sort_by(|&a, &b| screened[a].predicted.total_cmp(&screened[b].predicted));
     order.truncate(opts.fits);
+    let t1 = std::time::Instant::now();
     let fits: Vec<(usize, Result<Fitted, FitFailure>)> = order
         .par_iter()
         .map(|&i| (i, fit(ctx, &cands[i], model, &screened[i].start)))
         .collect();
+    let t2 = std::time::Instant::now();
     let excess = (before.held_out_chi2 - held as f64).max(0.0);
     let mut hypotheses = Vec::new();
     for (i, f) in fits {
@@ -250,6 +270,7 @@ fn round(
                 let s = summary(ctx, &f.replay);
                 let fall = before.held_out_chi2 - s.held_out_chi2;
                 let score = fall - penalty(held) * c.params.len() as f64;
+                let seen = visible(ctx, &before, &s);
                 hypotheses.push(Hypothesis {
                     kind: c.kind,
                     element: c.element,
@@ -258,7 +279,7 @@ fn round(
                     params: results(c, &f),
                     summary: s,
                     score,
-                    significant: score > 10.0 && fall >= 0.05 * excess,
+                    significant: score > 10.0 && fall >= 0.05 * excess && seen,
                     model: f.model,
                     replay: f.replay,
                 });
@@ -285,7 +306,17 @@ fn round(
         skipped,
         screened: cands.len(),
         fitted: order.len(),
+        screen_time: t1 - t0,
+        fit_time: t2 - t1,
     }
+}
+
+/// Whether some channel whose held-out error exceeded twice its noise lost
+/// at least a tenth of it: a fall of χ² spread thinly over channels already
+/// within their noise is not a finding.
+fn visible(ctx: &Context, before: &Summary, after: &Summary) -> bool {
+    let g = gain(before, after);
+    (0..5).any(|c| before.rms_held_out[c] > 2.0 * ctx.noise[c].sigma && g[c] >= 0.1)
 }
 
 fn gain(before: &Summary, after: &Summary) -> Measured {
@@ -341,10 +372,13 @@ pub fn diagnose(
     let mut first: Option<Vec<Hypothesis>> = None;
     let mut skipped = Vec::new();
     let (mut screened, mut fitted) = (0, 0);
+    let (mut screen_time, mut fit_time) = Default::default();
     for _ in 0..opts.max_effects {
         let r = round(&ctx, &current, &cur_states, &cur_replay, &found, opts, held);
         screened += r.screened;
         fitted += r.fitted;
+        screen_time += r.screen_time;
+        fit_time += r.fit_time;
         skipped.extend(r.skipped);
         let best = r.hypotheses.first().filter(|h| h.significant).cloned();
         if first.is_none() {
@@ -378,6 +412,8 @@ pub fn diagnose(
         training,
         screened,
         fitted,
+        screen_time,
+        fit_time,
     })
 }
 
@@ -403,13 +439,9 @@ fn channels_of(
 }
 
 impl Diagnosis {
-    /// The gain of every effect together, per channel, on the held-out steps.
+    /// The gain of every effect together, per channel, on the held-out
+    /// steps, against the nominal model.
     pub fn total_gain(&self) -> Measured {
-        let after = Summary {
-            rms: self.replay.rms(&[], &Subset::All),
-            ..self.baseline.clone()
-        };
-        let _ = after;
         match self.effects.last() {
             Some(e) => gain(&self.baseline, &e.hypothesis.summary),
             None => [0.0; 5],

@@ -19,6 +19,7 @@ pub mod channel;
 pub mod choose;
 pub mod fit;
 pub mod holdout;
+pub mod jacobian;
 pub mod kind;
 pub mod noise;
 pub mod replay;

@@ -1,19 +1,19 @@
 //! Screening: a cheap first look at every candidate, so that only the
-//! promising ones are fitted. For each starting point, one replay there (none
-//! when the start is the nominal model) and one per parameter a probe step
-//! away give a secant Jacobian; the Gauss–Newton step of that linear model
-//! predicts how far the candidate could lower the training χ². A secant of a
-//! probe-sized step (not a derivative) also sees effects that start at a
-//! threshold (friction sticking, a stop touching) where a derivative at the
-//! nominal model is zero.
+//! promising ones are fitted. The residuals and their Jacobian at a
+//! candidate's starting point predict, by one Gauss–Newton step of that
+//! linear model, how far the candidate could lower the training χ². Every
+//! candidate that starts at the nominal model (a stiffness, a joint point, a
+//! cubic term, an offset, a free length) is screened by one pass with the
+//! sensitivities to all their parameters at once; the others (a stop, a split
+//! part, friction) start away from it, at each of their starting points.
 
 use super::Context;
 use super::candidate::Candidate;
-use super::holdout::Subset;
-use super::replay::replay;
+use super::jacobian::{Evaluation, evaluate};
 use crate::model::Model;
 use crate::statics::path::Simulator;
 use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
 
 /// What screening found for one candidate.
 #[derive(Debug, Clone)]
@@ -27,8 +27,83 @@ pub struct Screened {
     pub failed: Option<String>,
 }
 
-/// Screens `cand` on `base`, whose training residuals are `r0`.
-pub fn screen(ctx: &Context, cand: &Candidate, base: &Model, r0: &[f64]) -> Screened {
+/// Screens the candidates whose search point 0 is the nominal model all at
+/// once: one evaluation of `base` with every one of their parameters gives
+/// each its Jacobian columns. Returns one result per candidate of `cands`
+/// (in order), `None` for those it does not handle.
+pub fn screen_at_nominal(
+    ctx: &Context,
+    cands: &[Candidate],
+    base: &Model,
+) -> Result<Vec<Option<Screened>>, String> {
+    let at0: Vec<usize> = (0..cands.len())
+        .filter(|&i| cands[i].zero_is_nominal && cands[i].edits.is_empty())
+        .collect();
+    let mut params = Vec::new();
+    let mut cols = Vec::new();
+    for &i in &at0 {
+        cols.push(params.len());
+        params.extend(cands[i].params.iter().cloned());
+    }
+    let all = Candidate {
+        params,
+        starts: vec![],
+        edits: vec![],
+        ..cands[at0.first().copied().unwrap_or(0)].clone()
+    };
+    let mut out = vec![None; cands.len()];
+    if at0.is_empty() {
+        return Ok(out);
+    }
+    let x0 = vec![0.0; all.params.len()];
+    // The sensitivities of one path are independent of the others': one
+    // job per path on all cores.
+    let parts: Vec<Result<Evaluation, String>> = (0..ctx.rig.len())
+        .into_par_iter()
+        .map(|p| {
+            let one = Context {
+                rig: &ctx.rig[p..p + 1],
+                designs: &ctx.designs[p..p + 1],
+                noise: ctx.noise,
+            };
+            evaluate(&one, &all, base, &x0, &mut Simulator::new()).map_err(|e| {
+                format!(
+                    "the nominal model's sensitivities failed at step {}: {}",
+                    e.step + 1,
+                    e.error.detail
+                )
+            })
+        })
+        .collect();
+    let mut r = Vec::new();
+    let mut rows: Vec<DMatrix<f64>> = Vec::new();
+    for part in parts {
+        let ev = part?;
+        r.extend(ev.r);
+        rows.push(ev.j);
+    }
+    let n: usize = rows.iter().map(|j| j.nrows()).sum();
+    let mut j = DMatrix::zeros(n, all.params.len());
+    let mut at = 0;
+    for b in &rows {
+        j.view_mut((at, 0), (b.nrows(), b.ncols())).copy_from(b);
+        at += b.nrows();
+    }
+    for (k, &i) in at0.iter().enumerate() {
+        let np = cands[i].params.len();
+        let jc = j.columns(cols[k], np).into_owned();
+        out[i] = Some(Screened {
+            start: vec![0.0; np],
+            predicted: linear_prediction(&jc, &r),
+            failed: None,
+        });
+    }
+    Ok(out)
+}
+
+/// Screens one candidate from each of its starting points (one evaluation
+/// with its Jacobian per start).
+pub fn screen(ctx: &Context, cand: &Candidate, base: &Model) -> Screened {
     let extended = match cand.extend(base) {
         Ok(m) => m,
         Err(e) => {
@@ -40,45 +115,24 @@ pub fn screen(ctx: &Context, cand: &Candidate, base: &Model, r0: &[f64]) -> Scre
         }
     };
     let mut sim = Simulator::new();
-    let mut residual = |x: &[f64]| -> Option<Vec<f64>> {
-        let m = cand.at(&extended, x);
-        replay(&m, ctx.rig, ctx.designs, &mut sim)
-            .ok()
-            .map(|rp| rp.residuals(ctx.rig, ctx.noise, &Subset::Training))
-    };
     let mut best: Option<(Vec<f64>, f64)> = None;
     let mut why = None;
     for start in &cand.starts {
-        let rs = if cand.zero_is_nominal && start.iter().all(|v| *v == 0.0) {
-            Some(r0.to_vec())
-        } else {
-            residual(start)
-        };
-        let Some(rs) = rs else {
-            why = Some("the model with it does not solve at its starting point".to_string());
-            continue;
-        };
-        let n = start.len();
-        let mut j = DMatrix::zeros(rs.len(), n);
-        for i in 0..n {
-            let p = &cand.params[i];
-            let mut x = start.clone();
-            x[i] = (x[i] + p.probe).clamp(p.lo, p.hi);
-            let h = x[i] - start[i];
-            if h == 0.0 {
-                continue;
-            }
-            if let Some(ri) = residual(&x) {
-                if ri.len() == rs.len() {
-                    for k in 0..rs.len() {
-                        j[(k, i)] = (ri[k] - rs[k]) / h;
-                    }
+        match evaluate(ctx, cand, &extended, start, &mut sim) {
+            Ok(ev) => {
+                let predicted = linear_prediction(&ev.j, &ev.r);
+                if best.as_ref().is_none_or(|(_, b)| predicted < *b) {
+                    best = Some((start.clone(), predicted));
                 }
             }
-        }
-        let predicted = linear_prediction(&j, &rs);
-        if best.as_ref().is_none_or(|(_, b)| predicted < *b) {
-            best = Some((start.clone(), predicted));
+            Err(e) => {
+                why = Some(format!(
+                    "the model with it does not solve at its starting point (step {} of path {}: {})",
+                    e.step + 1,
+                    e.path + 1,
+                    e.error.detail
+                ));
+            }
         }
     }
     match best {

@@ -108,8 +108,7 @@ pub fn claim(h: &Hypothesis) -> String {
                 })
                 .collect();
             format!(
-                "joint `{name}` sits off its modelled point {}: displaced by ({}) mm in x, y, z",
-                h.detail,
+                "joint `{name}` sits off its modelled point: displaced by ({}) mm in x, y, z",
                 d.join(", ")
             )
         }
