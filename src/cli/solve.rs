@@ -78,6 +78,16 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
         .map(|(k, (eq, c))| case_report(model, &c.name, k + 1, eq))
         .collect();
     let names: Vec<String> = ls.cases.iter().map(|c| c.name.clone()).collect();
+    // The cases after a failed one, never tried (no stale pose is printed).
+    let not_solved: Vec<(String, usize)> = match failed {
+        Some(f) => names
+            .iter()
+            .enumerate()
+            .skip(f.step)
+            .map(|(k, n)| (n.clone(), k + 1))
+            .collect(),
+        None => Vec::new(),
+    };
     let per_case: Vec<_> = eqs
         .iter()
         .map(|eq| angle_warnings(model, &eq.state))
@@ -89,6 +99,13 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
             let mut v = json!({ "model": model.name, "load_set": ls.name, "cases": reports });
             if let (Some(f), Some(cases)) = (failed, v["cases"].as_array_mut()) {
                 cases.push(json!(f));
+            }
+            if failed.is_some() {
+                let rest: Vec<_> = not_solved
+                    .iter()
+                    .map(|(name, step)| json!({ "name": name, "step": step }))
+                    .collect();
+                v["not_solved"] = json!(rest);
             }
             if let Some(t) = &trim {
                 v["trim"] = t.json.clone();
@@ -102,7 +119,7 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
                 .map_or(String::new(), |t| format!("{}\n", t.line));
             format!(
                 "{head}{}",
-                solve_table::cases(&model.name, &ls.name, &reports, failed)
+                solve_table::cases(&model.name, &ls.name, &reports, failed, &not_solved)
             )
         }
         OutFormat::Csv if model.wheels.is_empty() => parts_csv::csv(&reports),

@@ -147,8 +147,16 @@ pub fn case(c: &CaseReport) -> String {
 }
 
 /// The tables of all cases, separated by blank lines; a path that stopped
-/// ends with the line of the case it stopped at.
-pub fn cases(model: &str, set: &str, cases: &[CaseReport], failed: Option<&FailedCase>) -> String {
+/// ends with the line of the case it stopped at and the names of the cases
+/// after it (`not_solved`), which were not tried: each starts from the
+/// previous case's equilibrium, which the failed case lacks.
+pub fn cases(
+    model: &str,
+    set: &str,
+    cases: &[CaseReport],
+    failed: Option<&FailedCase>,
+    not_solved: &[(String, usize)],
+) -> String {
     let n = cases.len();
     let mut out = match failed {
         None => format!(
@@ -169,6 +177,13 @@ pub fn cases(model: &str, set: &str, cases: &[CaseReport], failed: Option<&Faile
     if let Some(f) = failed {
         out += "\n";
         out += &f.line();
+    }
+    if !not_solved.is_empty() {
+        let names: Vec<&str> = not_solved.iter().map(|(n, _)| n.as_str()).collect();
+        out += &format!(
+            "not solved: {} (the path stops at the first case that fails)\n",
+            names.join(", ")
+        );
     }
     out
 }
