@@ -125,3 +125,34 @@ fn a_case_is_converged_to_its_own_force_scale() {
         assert!((ax + 0.5).abs() < 1e-12, "{b}: {ax}");
     }
 }
+
+/// `tests/data/soft_arm.axle`: W1002 names a bushing deformed beyond 25 mm (3000 N / 100 N/mm = 30 mm),
+/// W1003 a wheel centre below the ground plane (-6000 N: 60 mm down from
+/// 50 mm, 10 mm below its contact point's design height), each once with
+/// its worst value and cases; a case within both (1000 N: 10 mm) is silent.
+#[test]
+fn implausible_states_are_warned_naming_the_element() {
+    let file = "tests/data/soft_arm.axle";
+    let (code, table, stderr) = axle(&["solve", file]);
+    assert_eq!(code, 0, "{stderr}");
+    insta::assert_snapshot!("implausible_state_warnings", stderr);
+    assert!(table.contains("case big"), "{table}");
+    assert_eq!(stderr.matches("warning[W1002]").count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("bushing `soft` is deformed 60.0 mm at most"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("in cases big, down"), "{stderr}");
+    assert_eq!(stderr.matches("warning[W1003]").count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("the centre of wheel `w` goes 10.0 mm below the ground plane"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("in case down"), "{stderr}");
+    let (_, _, quiet) = axle(&["solve", file, "--loadcases", "path", "--format", "json"]);
+    assert!(quiet.contains("W1002"), "json runs warn too: {quiet}");
+    let small = scratch("soft_small.csv", "step,fx,fy,fz\n1,0,0,1000\n");
+    let (code, _, stderr) = axle(&["solve", file, "--loads", &small]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(!stderr.contains("warning"), "{stderr}");
+}

@@ -5,7 +5,7 @@ use super::{Exit, OutFormat};
 use crate::diagnostic::Diagnostic;
 use crate::kc::kc_rows;
 use crate::model::LoadSetId;
-use crate::output::report::{CaseReport, angle_warnings, case_report};
+use crate::output::report::{CaseReport, case_report};
 use crate::output::warning;
 use crate::output::{kc_table, number::round_json, parts_csv, solve_table};
 use crate::statics::Problem;
@@ -88,11 +88,7 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
             .collect(),
         None => Vec::new(),
     };
-    let per_case: Vec<_> = eqs
-        .iter()
-        .map(|eq| angle_warnings(model, &eq.state))
-        .collect();
-    loaded.report(&warning::angles(model, &names, &per_case));
+    loaded.report(&warning::of_path(model, &names, eqs));
 
     let text = match args.format {
         OutFormat::Json => {

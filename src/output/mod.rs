@@ -6,6 +6,7 @@ pub mod columns;
 pub mod kc_table;
 pub mod number;
 pub mod parts_csv;
+pub mod plausibility;
 pub mod plot;
 pub mod report;
 pub mod solve_table;
