@@ -8,6 +8,7 @@ mod bushing;
 mod elements;
 mod error;
 mod eval;
+mod far_markers;
 mod friction;
 pub use friction::{allows as friction_allows, motion_word as friction_motion_word};
 mod geometry;
