@@ -156,3 +156,134 @@ fn implausible_states_are_warned_naming_the_element() {
     assert_eq!(code, 0, "{stderr}");
     assert!(!stderr.contains("warning"), "{stderr}");
 }
+
+/// Newton-Euler balance of every moving part at an equilibrium, from the
+/// reported pieces: element wrenches (force on I at its arm, the opposite on
+/// J), the joint reactions of the report (force at the I marker and torque
+/// on I, the opposite on J) and the applied loads. Returns the largest
+/// residual force (N) and moment about the origin over the length (N).
+fn worst_imbalance(
+    model: &axle::model::Model,
+    eq: &axle::statics::Equilibrium,
+    report: &axle::output::report::CaseReport,
+) -> (f64, f64) {
+    use axle::statics::coords::Layout;
+    let layout = Layout::new(model);
+    let st = &eq.state;
+    let nparts = model.parts.len();
+    let mut f = vec![Vec3::zeros(); nparts];
+    let mut m = vec![Vec3::zeros(); nparts];
+    let mut add = |part: axle::model::PartId, force: Vec3, at: Vec3, torque: Vec3| {
+        f[part.index()] += force;
+        m[part.index()] += at.cross(&force) + torque;
+    };
+    let part_of_block = |b: Option<usize>| b.map(|b| layout.moving[b]);
+    let origin = |p: axle::model::PartId| st.part_pose(p).0;
+    for (_, w) in axle::statics::forces::element_wrenches(model, &layout, st).expect("wrenches") {
+        if let Some(p) = part_of_block(w.i) {
+            add(p, w.g, origin(p) + w.r_i, w.m);
+        }
+        if let Some(p) = part_of_block(w.j) {
+            add(p, -w.g, origin(p) + w.rho, -w.m);
+        }
+    }
+    for j in &model.joints {
+        let Some(r) = report.joints.get(&j.name) else {
+            continue;
+        };
+        let (force, torque, at) = (
+            Vec3::from(r.force),
+            Vec3::from(r.torque),
+            Vec3::from(r.point),
+        );
+        add(model.marker(j.i).part, force, at, torque);
+        add(model.marker(j.j).part, -force, at, -torque);
+    }
+    for l in st.loads() {
+        let mk = model.marker(l.marker);
+        let (x, rot) = st.part_pose(mk.part);
+        add(mk.part, l.force, x + rot * mk.origin(), l.torque);
+    }
+    let length = 1000.0;
+    layout.moving.iter().fold((0.0f64, 0.0f64), |(a, b), p| {
+        (
+            a.max(f[p.index()].norm()),
+            b.max(m[p.index()].norm() / length),
+        )
+    })
+}
+
+/// Joint reactions against a conservation law: on every moving part of the
+/// McPherson axle (ball joints, the strut's cylindrical joint, the tie rod's
+/// universal) in all 13 cases of the thesis' Table 5-1, the reactions, the
+/// element forces and the applied loads sum to zero, force and moment, to
+/// 1e-6 of the wheel loads (kN).
+#[test]
+fn joint_reactions_balance_every_part() {
+    use axle::output::report::case_report;
+    let m = mcpherson();
+    let set = m.load_set_named("thesis_table_5_1").expect("set");
+    let p = Problem::new(&m).expect("problem");
+    let run = path::run_set(&p, set, &State::design(&m));
+    assert!(run.failure.is_none());
+    assert_eq!(run.steps.len(), 13);
+    for (k, eq) in run.steps.iter().enumerate() {
+        let rep = case_report(&m, "c", k + 1, eq);
+        assert_eq!(rep.joints.len(), m.joints.len(), "every joint reports");
+        let (f, mo) = worst_imbalance(&m, eq, &rep);
+        assert!(f < 1e-3 && mo < 1e-3, "case {}: {f:e} N, {mo:e} N", k + 1);
+        // The reactions are not all zero: the ball joints carry kN.
+        let biggest = rep
+            .joints
+            .values()
+            .map(|j| Vec3::from(j.force).norm())
+            .fold(0.0, f64::max);
+        assert!(biggest > 100.0, "{biggest}");
+    }
+}
+
+/// A hand-solvable case: the four-bar's c1 (1000 N down at the coupler's
+/// midpoint, symmetric) loads each link through its revolute with 500 N
+/// down and no torque; the coupler's marker centroid (its midpoint) moves
+/// down by the bushings' deflection, 500 N / 10 000 N/mm = 0.05 mm, and the
+/// case lists its load. In the table and in `solve --format json`.
+#[test]
+fn the_solve_report_shows_loads_reactions_and_centroid_displacements() {
+    let (code, json, stderr) = axle(&["solve", "examples/four_bar.axle", "--format", "json"]);
+    assert_eq!(code, 0, "{stderr}");
+    let v: Value = serde_json::from_str(&json).expect("one JSON document");
+    let c1 = &v["cases"][0];
+    let get = |x: &Value| -> Vec<f64> {
+        x.as_array()
+            .expect("array")
+            .iter()
+            .map(|n| n.as_f64().expect("number"))
+            .collect()
+    };
+    for j in ["r1", "r2"] {
+        let f = get(&c1["joints"][j]["force"]);
+        let t = get(&c1["joints"][j]["torque"]);
+        let want = [0.0, 0.0, -500.0];
+        for k in 0..3 {
+            assert!((f[k] - want[k]).abs() < 1e-6, "{j}: {f:?}");
+            assert!(t[k].abs() < 1e-6, "{j}: {t:?}");
+        }
+    }
+    assert_eq!(c1["loads"][0]["marker"], "coupler.mid");
+    assert_eq!(get(&c1["loads"][0]["force"]), vec![0.0, 0.0, -1000.0]);
+    let d = get(&c1["parts"]["coupler"]["displacement"]);
+    assert!(
+        d[0].abs() < 1e-9 && d[1].abs() < 1e-9 && (d[2] + 0.05).abs() < 1e-9,
+        "{d:?}"
+    );
+    let (_, table, _) = axle(&["solve", "examples/four_bar.axle"]);
+    assert!(
+        table.contains("  r1     0.0  0.0  -500.0     0     0     0\n"),
+        "{table}"
+    );
+    assert!(
+        table.contains("  coupler.mid  0.0  0.0  -1000.0"),
+        "{table}"
+    );
+    assert!(table.contains("  coupler  0.000  0.000  -0.050"), "{table}");
+}
