@@ -27,6 +27,7 @@
 pub mod check;
 pub mod cli;
 pub mod data;
+pub mod diagnose;
 pub mod diagnostic;
 pub mod edit;
 pub mod emit;

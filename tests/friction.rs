@@ -266,3 +266,22 @@ fn a_failure_with_friction_names_the_friction_and_the_case() {
     eprintln!("{msg}");
     assert!(msg.contains("friction `seal`"), "{msg}");
 }
+
+/// At a load reversal the slide goes from slip back to stick; the Newton
+/// step from one side of the law's kink along the other side's tangent does
+/// not lower the merit at any length, and the solve used to stall there
+/// (limits 100, 120, 160 and 300 N failed at lateral case 50, fy -3750 N,
+/// residual 1e-5). Every limit of a scan now solves all three sweeps.
+#[test]
+fn stick_after_slip_at_a_reversal_converges_for_any_limit() {
+    let m = example();
+    for limit in [60.0, 100.0, 120.0, 160.0, 300.0, 600.0] {
+        let mut t = m.clone();
+        let a = axle::model::address::Address::parse(&t, "L5_friction.limit").expect("address");
+        a.set(&mut t, limit);
+        for name in ["bump", "lateral", "longitudinal"] {
+            let eqs = along(&t, name);
+            assert!(eqs.iter().all(|e| e.residual < 1e-9), "{limit} N, {name}");
+        }
+    }
+}

@@ -133,6 +133,33 @@ pub fn landmarks_iges(
         .collect())
 }
 
+/// The K&C file of a load set of a truth model, solved as a path in order,
+/// with seeded noise: `angle_sigma` deg on toe and camber, `position_sigma`
+/// mm on each wheel-centre coordinate (drawn per row in that order). Tests
+/// and benchmarks of diagnosis use it as rig data whose cause is known.
+pub fn kc_csv(
+    model: &Model,
+    set: LoadSetId,
+    angle_sigma: f64,
+    position_sigma: f64,
+    seed: u64,
+) -> Result<String, StaticsError> {
+    let problem = statics::Problem::new(model)?;
+    let eqs = statics::path::solve_path(&problem, set).map_err(|e| e.error)?;
+    let states: Vec<&statics::State> = eqs.iter().map(|e| &e.state).collect();
+    let mut rows = crate::kc::kc_rows(model, set, &states);
+    let mut noise = Noise::new(seed);
+    for r in &mut rows {
+        let q = &mut r.quantities;
+        q.toe_deg += angle_sigma * noise.normal();
+        q.camber_deg += angle_sigma * noise.normal();
+        for c in &mut q.center {
+            *c += position_sigma * noise.normal();
+        }
+    }
+    Ok(crate::output::kc_table::csv(&rows))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -352,6 +352,9 @@ pub(crate) fn newton(
         sv.ws.eval(p, st, loads, true).map_err(fatal)?;
         sv.ws.release(homotopy);
     }
+    // One step per solve may be taken whole when the merit does not fall
+    // along it (see below).
+    let mut kink_step = !p.model.frictions.is_empty();
     for it in 0..MAX_ITERATIONS {
         let (ef, ec) = sv.ws.errors(p);
         if ef < FORCE_TOL && ec < CONSTRAINT_TOL {
@@ -404,6 +407,30 @@ pub(crate) fn newton(
             sv.x.iter_mut().for_each(|v| *v *= f);
         }
         if !line_search(p, loads, st, force, homotopy, sv) {
+            // A friction element's law has a kink (stick: -kf, slip: 0): a
+            // Newton step from one side along the other side's tangent need
+            // not lower the merit at any length, and backtracking then stalls
+            // at the kink (seen at a load reversal, residual 1e-5). The whole
+            // step lands on the right branch, whose tangent the next
+            // iteration uses; taken once per solve, it cannot cycle.
+            if kink_step && !super::friction::near_limit(&p.model, &p.layout, st).is_empty() {
+                kink_step = false;
+                copy_state(&mut sv.trial, st);
+                for i in 0..n {
+                    sv.dq[i] = sv.x[i] * sv.ws.scale[i];
+                }
+                sv.trial.apply(&p.layout, &sv.dq);
+                for k in 0..m {
+                    sv.trial.lambda[k] += sv.x[n + k] / sv.ws.row_scale[k];
+                }
+                if sv.ws.eval(p, &sv.trial, loads, true).is_ok() {
+                    sv.ws.release(homotopy);
+                    std::mem::swap(st, &mut sv.trial);
+                    continue;
+                }
+                sv.ws.eval(p, st, loads, true).map_err(fatal)?;
+                sv.ws.release(homotopy);
+            }
             // Rounding floor: no decrease possible, but already nearly converged.
             if ef < 1e3 * FORCE_TOL && ec < 1e3 * CONSTRAINT_TOL {
                 // The workspace holds a rejected trial: evaluate the state kept.

@@ -1,0 +1,267 @@
+//! Fitting one candidate to the training steps: Levenberg–Marquardt on its
+//! few search variables (`super::candidate::Scale`), the Jacobian by forward
+//! differences of whole replays (every kind of parameter alike: geometry
+//! that needs a new constraint analysis, path-dependent friction, a stop's
+//! contact), then the standard errors from the Jacobian at the optimum.
+//!
+//! A direction the data hardly see (a singular value of the noise-weighted
+//! Jacobian below 1: moving along it by one search unit changes χ² by less
+//! than 1) is not searched, and a parameter along it has no interval: it is
+//! *undetermined*, said in words and never printed as a number.
+
+use super::Context;
+use super::candidate::Candidate;
+use super::jacobian::{evaluate, residuals};
+use super::replay::{Replay, ReplayError};
+use crate::model::Model;
+use crate::statics::path::Simulator;
+use nalgebra::{DMatrix, DVector};
+
+/// A candidate fitted.
+#[derive(Debug, Clone)]
+pub struct Fitted {
+    /// The optimum in search units.
+    pub x: Vec<f64>,
+    /// Standard errors in search units (scaled by the misfit when it exceeds
+    /// the noise); infinite for an undetermined parameter.
+    pub sd: Vec<f64>,
+    /// Noise-weighted χ² of the training steps at the optimum.
+    pub train_chi2: f64,
+    pub iterations: usize,
+    /// The extended model at the optimum.
+    pub model: Model,
+    pub replay: Replay,
+}
+
+impl Fitted {
+    /// The 95 % interval of parameter `i` in search units, if determined.
+    pub fn interval(&self, i: usize) -> Option<(f64, f64)> {
+        let h = 1.96 * self.sd[i];
+        h.is_finite().then(|| (self.x[i] - h, self.x[i] + h))
+    }
+}
+
+/// Why a fit gave no result.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FitFailure {
+    /// The structural edit was refused (the model's rules).
+    Edit(String),
+    /// The model did not solve at the start.
+    Start(ReplayError),
+}
+
+fn cost(r: &[f64]) -> f64 {
+    r.iter().map(|v| v * v).sum()
+}
+
+/// Minimises the training χ² of `cand` from the search point `start`.
+/// Every trial point is evaluated with its Jacobian ([`evaluate`]): with the
+/// sensitivities that costs about one replay, so an accepted step needs no
+/// second pass.
+pub fn fit(
+    ctx: &Context,
+    cand: &Candidate,
+    base: &Model,
+    start: &[f64],
+) -> Result<Fitted, FitFailure> {
+    let extended = cand
+        .extend(base)
+        .map_err(|e| FitFailure::Edit(e.to_string()))?;
+    let mut sim = Simulator::new();
+    if cand.params.len() == 1 && !extended.frictions.is_empty() {
+        return fit_line(ctx, cand, &extended, start[0], &mut sim);
+    }
+    let mut x = start.to_vec();
+    let mut ev = evaluate(ctx, cand, &extended, &x, &mut sim).map_err(FitFailure::Start)?;
+    let mut c = cost(&ev.r);
+    let mut mu = 1e-3;
+    let mut iterations = 0;
+    while iterations < 30 {
+        iterations += 1;
+        let rv = DVector::from_column_slice(&ev.r);
+        let h = ev.j.transpose() * &ev.j;
+        let g = ev.j.transpose() * rv;
+        let mut improved = false;
+        while mu < 1e10 {
+            let Some(step) = damped_step(&h, &g, mu) else {
+                break;
+            };
+            let xn: Vec<f64> = x
+                .iter()
+                .zip(step.iter())
+                .zip(&cand.params)
+                .map(|((xi, s), p)| (xi + s).clamp(p.lo, p.hi))
+                .collect();
+            match evaluate(ctx, cand, &extended, &xn, &mut sim) {
+                Ok(evn) if cost(&evn.r) < c => {
+                    let cn = cost(&evn.r);
+                    let moved = xn
+                        .iter()
+                        .zip(&x)
+                        .map(|(a, b)| (a - b).abs())
+                        .fold(0.0, f64::max);
+                    // Converged for every purpose of the intervals: χ² moved
+                    // by less than 0.01 (plus rounding), or the point by 1e-5.
+                    let small = c - cn < 0.01 + 1e-9 * c || moved < 1e-5;
+                    x = xn;
+                    ev = evn;
+                    c = cn;
+                    mu = (mu / 3.0).max(1e-9);
+                    improved = !small;
+                    break;
+                }
+                _ => mu *= 4.0,
+            }
+        }
+        if !improved {
+            break;
+        }
+    }
+    let dof = (ev.r.len() as f64 - x.len() as f64).max(1.0);
+    let misfit = (c / dof).max(1.0);
+    let sd = standard_errors(&ev.j, misfit);
+    Ok(Fitted {
+        x,
+        sd,
+        train_chi2: c,
+        iterations,
+        model: ev.model,
+        replay: ev.replay,
+    })
+}
+
+/// A one-parameter fit of a model with friction, without derivatives: the
+/// χ² of a stick-slip path is continuous in the slip limit but its
+/// differences are ragged (a step sticks or slips), and Newton may fail at a
+/// point a difference needs. A scan of seven points half a search unit
+/// apart around the start, then golden-section search on the best interval;
+/// the standard error from the curvature of χ² over ±0.05 at the optimum.
+fn fit_line(
+    ctx: &Context,
+    cand: &Candidate,
+    extended: &Model,
+    start: f64,
+    sim: &mut Simulator,
+) -> Result<Fitted, FitFailure> {
+    let p = &cand.params[0];
+    let mut evals = 0;
+    let mut chi = |x: f64, sim: &mut Simulator| -> f64 {
+        evals += 1;
+        residuals(ctx, cand, extended, &[x.clamp(p.lo, p.hi)], sim)
+            .map_or(f64::INFINITY, |(r, _, _)| cost(&r))
+    };
+    let grid: Vec<f64> = (-3..=3)
+        .map(|k| (start + 0.5 * k as f64).clamp(p.lo, p.hi))
+        .collect();
+    let costs: Vec<f64> = grid.iter().map(|&x| chi(x, sim)).collect();
+    let best = (0..grid.len())
+        .min_by(|&a, &b| costs[a].total_cmp(&costs[b]))
+        .unwrap_or(3);
+    if !costs[best].is_finite() {
+        let e = residuals(ctx, cand, extended, &[start], sim).err();
+        return Err(match e {
+            Some(e) => FitFailure::Start(e),
+            None => FitFailure::Edit("no point of the scan solved".into()),
+        });
+    }
+    let (mut a, mut b) = (
+        grid[best.saturating_sub(1)],
+        grid[(best + 1).min(grid.len() - 1)],
+    );
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+    let (mut fc, mut fd) = (chi(c, sim), chi(d, sim));
+    while b - a > 2e-3 {
+        if fc < fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            fc = chi(c, sim);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            fd = chi(d, sim);
+        }
+    }
+    let x = 0.5 * (a + b);
+    let (r, replay, model) =
+        residuals(ctx, cand, extended, &[x], sim).map_err(FitFailure::Start)?;
+    let c0 = cost(&r);
+    let h = 0.05;
+    let curv = (chi(x + h, sim) + chi(x - h, sim) - 2.0 * c0) / (h * h);
+    let dof = (r.len() as f64 - 1.0).max(1.0);
+    let misfit = (c0 / dof).max(1.0);
+    // χ² = c0 + (curv / 2) δ², and χ² = Σ r² has Hessian 2 JᵀJ: σ² = 2 / curv.
+    let sd = if curv.is_finite() && curv > 0.0 {
+        (2.0 / curv * misfit).sqrt()
+    } else {
+        f64::INFINITY
+    };
+    Ok(Fitted {
+        x: vec![x],
+        sd: vec![sd],
+        train_chi2: c0,
+        iterations: evals,
+        model,
+        replay,
+    })
+}
+
+/// The Levenberg–Marquardt step `(H + μ diag H) δ = −g`, leaving out the
+/// directions the data do not see (singular values of `J` below 1).
+fn damped_step(h: &DMatrix<f64>, g: &DVector<f64>, mu: f64) -> Option<DVector<f64>> {
+    let n = h.nrows();
+    let e = h.clone().symmetric_eigen();
+    let mut step = DVector::zeros(n);
+    let top = e.eigenvalues.amax();
+    if !top.is_finite() {
+        return None;
+    }
+    let mut a = h.clone();
+    for i in 0..n {
+        a[(i, i)] += mu * h[(i, i)].max(1e-12 * top).max(1e-300);
+    }
+    // Project out the unseen directions of H (eigenvalue of H = σ² < 1).
+    let mut p = DMatrix::<f64>::identity(n, n);
+    for k in 0..n {
+        if e.eigenvalues[k] < 1.0 {
+            let v = e.eigenvectors.column(k);
+            p -= v * v.transpose();
+        }
+    }
+    let ap = &p * a * &p + (DMatrix::identity(n, n) - &p);
+    let gp = &p * g;
+    if let Some(ch) = ap.cholesky() {
+        step = -ch.solve(&gp);
+    }
+    step.iter().all(|v| v.is_finite()).then_some(step)
+}
+
+/// Standard errors from `J` (noise-weighted), times `√misfit`; infinite for
+/// a parameter with a component along a direction the data do not see.
+fn standard_errors(j: &DMatrix<f64>, misfit: f64) -> Vec<f64> {
+    let n = j.ncols();
+    let svd = j.clone().svd(false, true);
+    let Some(vt) = svd.v_t else {
+        return vec![f64::INFINITY; n];
+    };
+    (0..n)
+        .map(|i| {
+            let mut var = 0.0;
+            for (k, &s) in svd.singular_values.iter().enumerate() {
+                let v = vt[(k, i)];
+                if s < 1.0 {
+                    if v.abs() > 0.1 {
+                        return f64::INFINITY;
+                    }
+                    continue;
+                }
+                var += (v / s).powi(2);
+            }
+            (var * misfit).sqrt()
+        })
+        .collect()
+}

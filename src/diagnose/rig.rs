@@ -1,0 +1,125 @@
+//! The rig data of a diagnosis: one K&C file per measured load path
+//! (`interfaces.md`, "K&C rig data"), its rows in measurement order, read into
+//! the wheel loads to replay and the channels to compare (`super::channel`).
+//! Text in (already in the source map), data or a located diagnostic out.
+
+use super::channel::{self, Measured};
+use crate::data::table;
+use crate::diagnostic::Diagnostic;
+use crate::diagnostic::suggest::did_you_mean;
+use crate::identify::measured::{kc_channels, loads_of_file};
+use crate::model::{Model, PointLoad, WheelId};
+use crate::span::{FileId, Span};
+
+/// One measured step of a path.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RigStep {
+    /// The step number of the file.
+    pub step: usize,
+    pub loads: Vec<PointLoad>,
+    /// The measured channels of the path's wheel.
+    pub measured: Measured,
+}
+
+/// One load path as the rig ran it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RigPath {
+    /// The file's name, for tables and the report.
+    pub name: String,
+    pub file: FileId,
+    pub wheel: WheelId,
+    pub steps: Vec<RigStep>,
+}
+
+/// Reads one K&C file for `model`.
+pub fn read(model: &Model, file: FileId, name: &str, text: &str) -> Result<RigPath, Diagnostic> {
+    let csv = |e: crate::data::CsvError| e.to_diagnostic(file);
+    let (loads, _) = loads_of_file(model, text).map_err(csv)?;
+    let channels = kc_channels(text).map_err(csv)?;
+    let wheel = wheel_of(model, file, text)?;
+    let design = channel::design(model, wheel);
+    let mut steps = Vec::with_capacity(loads.len());
+    for (step, l) in loads {
+        let Some((_, obs)) = channels.iter().find(|(s, _)| *s == step) else {
+            continue;
+        };
+        steps.push(RigStep {
+            step,
+            loads: l,
+            measured: channel::of_observation(&design, obs),
+        });
+    }
+    if steps.is_empty() {
+        return Err(Diagnostic::error("E1301", "the K&C file has no measured step")
+            .primary(Span::new(file, 0, 0), "no data row")
+            .hint("a K&C file has a header row and one row per step: step, fx, fy, fz, wc_x, wc_y, wc_z, toe_deg, camber_deg"));
+    }
+    Ok(RigPath {
+        name: name.to_string(),
+        file,
+        wheel,
+        steps,
+    })
+}
+
+/// The wheel a K&C file measures: its `wheel` column (one wheel per file), or
+/// the model's only wheel.
+fn wheel_of(model: &Model, file: FileId, text: &str) -> Result<WheelId, Diagnostic> {
+    let t = table::parse(text).map_err(|e| e.to_diagnostic(file))?;
+    let names: Vec<&str> = model.wheels.iter().map(|w| w.name.as_str()).collect();
+    let Some(col) = t.column("wheel") else {
+        return match model.wheels.len() {
+            1 => Ok(WheelId(0)),
+            0 => Err(Diagnostic::error(
+                "E1302",
+                "the model has no wheel, so K&C channels cannot be compared",
+            )
+            .primary(Span::new(file, t.header.start, t.header.end), "K&C columns")
+            .hint("declare a `wheel` with its centre and contact markers")),
+            _ => Err(Diagnostic::error(
+                "E1302",
+                format!(
+                    "the model has {} wheels and the K&C file has no `wheel` column to say which it measures",
+                    model.wheels.len()
+                ),
+            )
+            .primary(Span::new(file, t.header.start, t.header.end), "no `wheel` column")
+            .hint(format!("add a `wheel` column naming one of: {}", names.join(", ")))),
+        };
+    };
+    let mut found: Option<(WheelId, &table::Field)> = None;
+    for row in &t.rows {
+        let Some(f) = row.fields.get(col) else {
+            continue;
+        };
+        let Some(k) = names.iter().position(|n| *n == f.text) else {
+            let d = Diagnostic::error("E1302", format!("the model has no wheel `{}`", f.text))
+                .primary(Span::new(file, f.start, f.end), "not a wheel of the model");
+            return Err(match did_you_mean(f.text, names.iter().copied()) {
+                Some(s) => d.hint(format!("did you mean `{s}`?")),
+                None => d.hint(format!("the model's wheels: {}", names.join(", "))),
+            });
+        };
+        let id = WheelId(k as u32);
+        match found {
+            None => found = Some((id, f)),
+            Some((w, first)) if w != id => {
+                return Err(Diagnostic::error(
+                    "E1302",
+                    format!(
+                        "the K&C file measures two wheels (`{}` and `{}`); diagnose reads one wheel per file",
+                        first.text, f.text
+                    ),
+                )
+                .primary(Span::new(file, f.start, f.end), "second wheel")
+                .secondary(Span::new(file, first.start, first.end), "first wheel")
+                .hint("split the file by wheel and give each with its own --kc"));
+            }
+            Some(_) => {}
+        }
+    }
+    found.map(|(w, _)| w).ok_or_else(|| {
+        Diagnostic::error("E1301", "the K&C file has no measured step")
+            .primary(Span::new(file, t.header.start, t.header.end), "header only")
+    })
+}
