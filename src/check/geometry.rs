@@ -82,6 +82,7 @@ impl Checker {
         self.line_elements();
         self.wheel_axes();
         self.landmark_tables();
+        self.far_markers();
     }
 
     /// Springs and stops act along the line from J to I: two markers at one

@@ -8,6 +8,7 @@ mod bushing;
 mod elements;
 mod error;
 mod eval;
+mod far_markers;
 mod friction;
 pub use friction::{allows as friction_allows, motion_word as friction_motion_word};
 mod geometry;
@@ -22,6 +23,17 @@ pub use elements::properties;
 pub use resolution::{Resolution, Symbol};
 
 pub(crate) use eval::plain_number;
+
+/// The largest magnitude (internal units) of dimension `dim` any suspension
+/// comes near, and the limit as words (`"10 MN"`); None for a dimension
+/// without one. Shared by the checker (E0214), the data readers and the
+/// statics' own input checks, so every door rejects the same values.
+pub fn plausible_limit(dim: crate::units::Dim) -> Option<(f64, &'static str)> {
+    error::PLAUSIBLE
+        .iter()
+        .find(|(d, ..)| *d == dim)
+        .map(|&(_, limit, shown)| (limit, shown))
+}
 
 use crate::diagnostic::{Diagnostic, Problems};
 use crate::model::{ElementId, LoadSetId, Model, Param, ParamId};

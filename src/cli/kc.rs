@@ -6,7 +6,6 @@ use crate::diagnostic::Diagnostic;
 use crate::kc::{KcRow, kc_rows};
 use crate::model::{Component, LoadForm, LoadSet, LoadSetId, Model};
 use crate::output::plot::{Sweep, svg};
-use crate::output::report::angle_warnings;
 use crate::output::warning;
 use crate::output::{columns, kc_table, solve_json};
 use crate::statics::{Equilibrium, Problem, compliance};
@@ -132,11 +131,7 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
     let solved = super::input::solve_reporting(&loaded, &problem, set);
     let (eqs, failed) = (&solved.eqs, solved.failed.as_ref());
     let names: Vec<String> = ls.cases.iter().map(|c| c.name.clone()).collect();
-    let per_case: Vec<_> = eqs
-        .iter()
-        .map(|eq| angle_warnings(model, &eq.state))
-        .collect();
-    loaded.report(&warning::angles(model, &names, &per_case));
+    loaded.report(&warning::of_path(model, &names, eqs));
     let states: Vec<_> = eqs.iter().map(|e| &e.state).collect();
     let rows: Vec<KcRow> = kc_rows(model, set, &states);
     let comp = eqs

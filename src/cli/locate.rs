@@ -54,6 +54,10 @@ pub fn run(a: &Args) -> Exit {
         Ok(x) => x,
         Err(code) => return code,
     };
+    if let Some(d) = crate::locate::preflight::check(&model, &steps) {
+        render::to_stderr(&sources, &[d]);
+        return Exit::Input;
+    }
     let reference = match data.step(&steps, a.reference) {
         Ok(s) => s.step,
         Err(d) => {
@@ -108,9 +112,10 @@ fn table(r: &Report) -> String {
         let u = e
             .uncertainty_mm
             .map_or("-".to_string(), |u| format!("{u:.3}"));
+        let res = e.residual_mm.map_or("-".to_string(), |r| format!("{r:.3}"));
         s += &format!(
-            "{name:<10} {:<12} {c:>30} {a:>24} {:>9.3} {u:>11}  {}\n",
-            e.kind, e.residual_mm, e.method
+            "{name:<10} {:<12} {c:>30} {a:>24} {res:>9} {u:>11}  {}\n",
+            e.kind, e.method
         );
         if !e.observable {
             s += &format!("{:<10} {}\n", "", e.note);

@@ -5,7 +5,7 @@ use super::{Exit, OutFormat};
 use crate::diagnostic::Diagnostic;
 use crate::kc::kc_rows;
 use crate::model::LoadSetId;
-use crate::output::report::{CaseReport, angle_warnings, case_report};
+use crate::output::report::{CaseReport, case_report};
 use crate::output::warning;
 use crate::output::{kc_table, parts_csv, solve_json, solve_table};
 use crate::statics::Problem;
@@ -77,11 +77,17 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
         .map(|(k, (eq, c))| case_report(model, &c.name, k + 1, eq))
         .collect();
     let names: Vec<String> = ls.cases.iter().map(|c| c.name.clone()).collect();
-    let per_case: Vec<_> = eqs
-        .iter()
-        .map(|eq| angle_warnings(model, &eq.state))
-        .collect();
-    loaded.report(&warning::angles(model, &names, &per_case));
+    // The cases after a failed one, never tried (no stale pose is printed).
+    let not_solved: Vec<(String, usize)> = match failed {
+        Some(f) => names
+            .iter()
+            .enumerate()
+            .skip(f.step)
+            .map(|(k, n)| (n.clone(), k + 1))
+            .collect(),
+        None => Vec::new(),
+    };
+    loaded.report(&warning::of_path(model, &names, eqs));
 
     let text = match args.format {
         OutFormat::Json => solve_json::solve(
@@ -89,6 +95,7 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
             &ls.name,
             &reports,
             failed,
+            failed.map(|_| not_solved.as_slice()),
             trim.as_ref().map(|t| &t.json),
         ),
         OutFormat::Table => {
@@ -97,7 +104,7 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
                 .map_or(String::new(), |t| format!("{}\n", t.line));
             format!(
                 "{head}{}",
-                solve_table::cases(&model.name, &ls.name, &reports, failed)
+                solve_table::cases(&model.name, &ls.name, &reports, failed, &not_solved)
             )
         }
         OutFormat::Csv if model.wheels.is_empty() => parts_csv::csv(&reports),

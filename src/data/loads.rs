@@ -8,6 +8,7 @@ use super::CsvError;
 use super::table::{self, Field, Row};
 use crate::diagnostic::suggest::did_you_mean;
 use crate::model::{Channel, Component, LoadCase, LoadForm, LoadSet, LoadTarget, Model, WheelId};
+use crate::units::Dim;
 
 const REQUIRED: [&str; 4] = ["step", "fx", "fy", "fz"];
 const COLUMNS_HINT: &str =
@@ -143,13 +144,32 @@ pub fn read(text: &str, name: &str, model: &Model) -> Result<LoadSet, CsvError> 
     })
 }
 
-/// A finite number; an empty field counts as 0 only in the optional torque columns.
+/// A finite number within what any suspension sees (`check`'s E0214 limits:
+/// 10 MN, 10 MN·m); an empty field counts as 0 only in the optional torque
+/// columns.
 fn number(f: &Field, column: &str) -> Result<f64, CsvError> {
-    if f.text.is_empty() && matches!(column, "mx" | "my" | "mz") {
+    let torque = matches!(column, "mx" | "my" | "mz");
+    if f.text.is_empty() && torque {
         return Ok(0.0);
     }
+    let (dim, unit) = if torque {
+        (Dim::TORQUE, "N*mm")
+    } else {
+        (Dim::FORCE, "N")
+    };
     match f.text.parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
+        Ok(v) if v.is_finite() => match crate::check::plausible_limit(dim) {
+            Some((limit, shown)) if v.abs() > limit => Err(CsvError::new(
+                "E0214",
+                format!(
+                    "{v:e} {unit} in column `{column}` is beyond any suspension (more than {shown})"
+                ),
+                (f.start, f.end),
+                "this value",
+            )
+            .with_hint(Some("check the unit and the exponent".into()))),
+            _ => Ok(v),
+        },
         _ => Err(CsvError::new(
             "E0705",
             format!("`{}` is not a number", f.text),

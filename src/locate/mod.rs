@@ -6,6 +6,7 @@ pub mod linear;
 pub mod motion;
 pub mod nonlinear;
 pub mod plan;
+pub mod preflight;
 pub mod rack;
 pub mod report;
 pub mod simplex;

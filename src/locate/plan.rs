@@ -381,7 +381,8 @@ pub(super) fn verdict(mut l: Located, rels: &[super::motion::Rel], opt: &Options
         l.observable = false;
         l.note = format!(
             "not observable: the measured motion (largest relative rotation {rotation:.2}°) leaves the centre uncertain by {} mm (limit {} mm); more varied motion is needed (for a strut top, steering)",
-            if l.uncertainty.is_finite() {
+            // Beyond a kilometre the number says nothing but "unbounded".
+            if l.uncertainty.is_finite() && l.uncertainty < 1e6 {
                 format!("{:.1}", l.uncertainty)
             } else {
                 "an unbounded".into()

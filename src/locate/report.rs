@@ -15,7 +15,8 @@ pub struct Entry {
     pub method: String,
     pub center: Option<[f64; 3]>,
     pub axis: Option<[f64; 3]>,
-    pub residual_mm: f64,
+    /// None when the fit had no residual to give (not a number).
+    pub residual_mm: Option<f64>,
     pub uncertainty_mm: Option<f64>,
     pub observable: bool,
     /// A direction (global, at the reference step) along which the motion does
@@ -185,7 +186,7 @@ pub fn report(model: &Model, steps: &[StepPoses], located: &[Located], reference
                 method: l.method.clone(),
                 center: l.center.filter(|_| ok).map(|c| arr(r * c + t)),
                 axis: l.axis.filter(|_| ok).map(|a| arr(r * a)),
-                residual_mm: l.residual,
+                residual_mm: l.residual.is_finite().then_some(l.residual),
                 uncertainty_mm: (ok && l.uncertainty.is_finite()).then_some(l.uncertainty),
                 observable: ok,
                 undetermined_direction: l.undetermined.filter(|_| ok).map(|d| arr(r * d)),

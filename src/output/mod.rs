@@ -10,6 +10,7 @@ pub mod json;
 pub mod kc_table;
 pub mod number;
 pub mod parts_csv;
+pub mod plausibility;
 pub mod plot;
 pub mod report;
 pub mod solve_json;

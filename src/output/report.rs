@@ -1,6 +1,7 @@
 //! The per-case report of `solve --format json` (`interfaces.md`), and warnings
 //! about bushings driven outside the range of their projected angles.
 
+use crate::geom::Vec3;
 use crate::kc::{WheelQuantities, wheel_quantities};
 use crate::model::{BushingId, ElementId, FrictionId, FrictionMotion, Model, SpringId};
 use crate::statics::coords::Layout;
@@ -16,6 +17,31 @@ pub struct PartReport {
     pub position: [f64; 3],
     /// Part frame axes as columns, rows of the matrix listed.
     pub rotation: [[f64; 3]; 3],
+    /// Displacement from design of the centroid of the part's markers (mm,
+    /// global): a point of the part, unlike `position`, which is the global
+    /// origin carried by the part and moves by the rotation times its lever.
+    pub displacement: [f64; 3],
+}
+
+/// A load applied in a case, at its marker (global, N and N·mm).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LoadReport {
+    /// `part.marker`.
+    pub marker: String,
+    pub force: [f64; 3],
+    pub torque: [f64; 3],
+}
+
+/// The reaction of a joint on its I part at equilibrium: a force at the I
+/// marker's origin (`point`) and a torque, global axes (N, N·mm). J carries
+/// the opposite. A joint whose equations were all left out as redundant has
+/// none (the loop's reaction shows on the joints kept).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct JointReport {
+    pub force: [f64; 3],
+    pub torque: [f64; 3],
+    /// The I marker's origin at equilibrium, mm, global.
+    pub point: [f64; 3],
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -56,6 +82,10 @@ pub struct CaseReport {
     pub wheels: BTreeMap<String, WheelQuantities>,
     pub bushings: BTreeMap<String, BushingReport>,
     pub springs: BTreeMap<String, SpringReport>,
+    /// Joint reactions on I (global).
+    pub joints: BTreeMap<String, JointReport>,
+    /// The loads the case applies, in the order of their markers.
+    pub loads: Vec<LoadReport>,
     /// Absent when the model has no friction (keeps older reports unchanged).
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub frictions: BTreeMap<String, FrictionReport>,
@@ -97,14 +127,52 @@ pub fn case_report(model: &Model, name: &str, step: usize, eq: &Equilibrium) -> 
     let mut parts = BTreeMap::new();
     for p in model.moving_parts() {
         let (x, r) = st.part_pose(p);
+        let pts: Vec<Vec3> = model
+            .markers
+            .iter()
+            .filter(|m| m.part == p)
+            .map(|m| m.origin())
+            .collect();
+        let c = if pts.is_empty() {
+            Vec3::zeros()
+        } else {
+            pts.iter().sum::<Vec3>() / pts.len() as f64
+        };
         parts.insert(
             model.part(p).name.clone(),
             PartReport {
                 position: x.into(),
                 rotation: [0, 1, 2].map(|i| [r[(i, 0)], r[(i, 1)], r[(i, 2)]]),
+                displacement: (x + r * c - c).into(),
             },
         );
     }
+    let joints = eq
+        .reactions
+        .iter()
+        .map(|re| {
+            let j = &model.joints[re.joint.index()];
+            let mk = model.marker(j.i);
+            let (x, r) = st.part_pose(mk.part);
+            (
+                j.name.clone(),
+                JointReport {
+                    force: re.force.into(),
+                    torque: re.torque.into(),
+                    point: (x + r * mk.origin()).into(),
+                },
+            )
+        })
+        .collect();
+    let loads = st
+        .loads()
+        .iter()
+        .map(|l| LoadReport {
+            marker: model.marker_path(l.marker),
+            force: l.force.into(),
+            torque: l.torque.into(),
+        })
+        .collect();
     let wheels = model
         .wheels
         .iter()
@@ -146,6 +214,8 @@ pub fn case_report(model: &Model, name: &str, step: usize, eq: &Equilibrium) -> 
         wheels,
         bushings,
         springs,
+        joints,
+        loads,
         frictions: friction_reports(model, st),
         substeps: eq.substeps,
     }

@@ -45,10 +45,29 @@ fn case(w: &mut Json, c: &CaseReport) {
         w.end_object();
     }
     w.key("iterations").int(c.iterations as u64);
+    w.key("joints").begin_object();
+    for (name, j) in &c.joints {
+        w.key(name).begin_object();
+        w.key("force").nums(&j.force);
+        w.key("point").nums(&j.point);
+        w.key("torque").nums(&j.torque);
+        w.end_object();
+    }
+    w.end_object();
+    w.key("loads").begin_array();
+    for l in &c.loads {
+        w.begin_object();
+        w.key("force").nums(&l.force);
+        w.key("marker").str(&l.marker);
+        w.key("torque").nums(&l.torque);
+        w.end_object();
+    }
+    w.end_array();
     w.key("name").str(&c.name);
     w.key("parts").begin_object();
     for (name, p) in &c.parts {
         w.key(name).begin_object();
+        w.key("displacement").nums(&p.displacement);
         w.key("position").nums(&p.position);
         w.key("rotation").begin_array();
         for row in &p.rotation {
@@ -98,6 +117,7 @@ pub fn solve(
     load_set: &str,
     cases: &[CaseReport],
     failed: Option<&FailedCase>,
+    not_solved: Option<&[(String, usize)]>,
     trim: Option<&Value>,
 ) -> String {
     let mut w = Json::new();
@@ -112,6 +132,16 @@ pub fn solve(
     w.end_array();
     w.key("load_set").str(load_set);
     w.key("model").str(model);
+    if let Some(rest) = not_solved {
+        w.key("not_solved").begin_array();
+        for (name, step) in rest {
+            w.begin_object();
+            w.key("name").str(name);
+            w.key("step").int(*step as u64);
+            w.end_object();
+        }
+        w.end_array();
+    }
     if let Some(t) = trim {
         w.key("trim").value(t);
     }
@@ -273,7 +303,7 @@ mod tests {
         }
         v["trim"] = trim.clone();
         round_tree(&mut v);
-        let direct = solve(&m.name, &ls.name, &reports, failed.as_ref(), Some(&trim));
+        let direct = solve(&m.name, &ls.name, &reports, failed.as_ref(), None, Some(&trim));
         (direct, format!("{v:#}\n"))
     }
 

@@ -1,6 +1,7 @@
 //! `solve --format table`: one block per case, for an engineer at a terminal:
-//! the wheels first (what the K&C rig measures), then the bushings (where the
-//! compliance comes from), springs, frictions, and the part displacements.
+//! the loads applied, the wheels (what the K&C rig measures), then the
+//! bushings (where the compliance comes from), springs, frictions, the joint
+//! reactions (ball-joint loads are design loads) and the part displacements.
 
 use super::columns::{Cell, Col, col, render};
 use crate::output::report::{CaseReport, FailedCase};
@@ -46,6 +47,26 @@ const FRICTION: [Col; 5] = [
     col("state", "", 0),
 ];
 
+const LOAD: [Col; 7] = [
+    col("load at", "", 0),
+    col("Fx", "N", 1),
+    col("Fy", "N", 1),
+    col("Fz", "N", 1),
+    col("Mx", "N*mm", 0),
+    col("My", "N*mm", 0),
+    col("Mz", "N*mm", 0),
+];
+
+const JOINT: [Col; 7] = [
+    col("joint", "", 0),
+    col("Fx", "N", 1),
+    col("Fy", "N", 1),
+    col("Fz", "N", 1),
+    col("Tx", "N*mm", 0),
+    col("Ty", "N*mm", 0),
+    col("Tz", "N*mm", 0),
+];
+
 const PART: [Col; 5] = [
     col("part", "", 0),
     col("dx", "mm", 3),
@@ -69,6 +90,21 @@ pub fn case(c: &CaseReport) -> String {
         "case {} (step {}): converged in {} Newton iterations{sub}\n",
         c.name, c.step, c.iterations
     );
+    if !c.loads.is_empty() {
+        let rows: Vec<Vec<Cell>> = c
+            .loads
+            .iter()
+            .map(|l| {
+                let mut r = vec![text(&l.marker)];
+                r.extend(l.force.map(Cell::Num));
+                r.extend(l.torque.map(Cell::Num));
+                r
+            })
+            .collect();
+        out += "\n";
+        out += &render(&LOAD, &rows, "  ");
+        out += "  (applied at the marker, global axes)\n";
+    }
     if !c.wheels.is_empty() {
         let rows: Vec<Vec<Cell>> = c
             .wheels
@@ -126,6 +162,21 @@ pub fn case(c: &CaseReport) -> String {
         out += &render(&FRICTION, &rows, "  ");
         out += "  (slide of I along z_J and force on I; a rotation friction: deg and N*mm)\n";
     }
+    if !c.joints.is_empty() {
+        let rows: Vec<Vec<Cell>> = c
+            .joints
+            .iter()
+            .map(|(n, j)| {
+                let mut r = vec![text(n)];
+                r.extend(j.force.map(Cell::Num));
+                r.extend(j.torque.map(Cell::Num));
+                r
+            })
+            .collect();
+        out += "\n";
+        out += &render(&JOINT, &rows, "  ");
+        out += "  (reaction on I at its marker, global axes; J carries the opposite)\n";
+    }
     if !c.parts.is_empty() {
         let rows: Vec<Vec<Cell>> = c
             .parts
@@ -134,21 +185,29 @@ pub fn case(c: &CaseReport) -> String {
                 let r = &p.rotation;
                 let cos = ((r[0][0] + r[1][1] + r[2][2] - 1.0) / 2.0).clamp(-1.0, 1.0);
                 let mut row = vec![text(n)];
-                row.extend(p.position.map(Cell::Num));
+                row.extend(p.displacement.map(Cell::Num));
                 row.push(Cell::Num(cos.acos().to_degrees()));
                 row
             })
             .collect();
         out += "\n";
         out += &render(&PART, &rows, "  ");
-        out += "  (part frame from its design pose: translation and rotation angle)\n";
+        out += "  (displacement of the part's marker centroid from design, and rotation angle)\n";
     }
     out
 }
 
 /// The tables of all cases, separated by blank lines; a path that stopped
-/// ends with the line of the case it stopped at.
-pub fn cases(model: &str, set: &str, cases: &[CaseReport], failed: Option<&FailedCase>) -> String {
+/// ends with the line of the case it stopped at and the names of the cases
+/// after it (`not_solved`), which were not tried: each starts from the
+/// previous case's equilibrium, which the failed case lacks.
+pub fn cases(
+    model: &str,
+    set: &str,
+    cases: &[CaseReport],
+    failed: Option<&FailedCase>,
+    not_solved: &[(String, usize)],
+) -> String {
     let n = cases.len();
     let mut out = match failed {
         None => format!(
@@ -169,6 +228,13 @@ pub fn cases(model: &str, set: &str, cases: &[CaseReport], failed: Option<&Faile
     if let Some(f) = failed {
         out += "\n";
         out += &f.line();
+    }
+    if !not_solved.is_empty() {
+        let names: Vec<&str> = not_solved.iter().map(|(n, _)| n.as_str()).collect();
+        out += &format!(
+            "not solved: {} (the path stops at the first case that fails)\n",
+            names.join(", ")
+        );
     }
     out
 }

@@ -1,10 +1,28 @@
 //! Warnings of a solve, worded once: bushings driven beyond the range of
-//! projected angles. (Redundant constraints are reported once, by the checker's
+//! projected angles (W1001) and implausible states ([`super::plausibility`]:
+//! W1002, W1003). (Redundant constraints are reported once, by the checker's
 //! mobility analysis.)
 
-use super::report::{ANGLE_LIMIT_DEG, AngleWarning};
+use super::report::{ANGLE_LIMIT_DEG, AngleWarning, angle_warnings};
 use crate::diagnostic::Diagnostic;
 use crate::model::{ElementId, Model};
+use crate::statics::Equilibrium;
+
+/// Every warning of a path's converged cases (`names[k]` names case `k`):
+/// the angle warnings, then the implausible states.
+pub fn of_path(model: &Model, names: &[String], eqs: &[Equilibrium]) -> Vec<Diagnostic> {
+    let angles_per_case: Vec<_> = eqs
+        .iter()
+        .map(|e| angle_warnings(model, &e.state))
+        .collect();
+    let found: Vec<_> = eqs
+        .iter()
+        .map(|e| super::plausibility::findings(model, &e.state))
+        .collect();
+    let mut out = angles(model, names, &angles_per_case);
+    out.extend(super::plausibility::warnings(model, names, &found));
+    out
+}
 
 /// One warning per bushing whose tilts (ax, ay) leave ±15° in some case:
 /// the largest angle and the cases where it happens. `per_case[k]` holds the

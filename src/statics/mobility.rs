@@ -2,9 +2,15 @@
 //! redundant equations, and motions that no joint and no force element holds
 //! (errors) or holds only very weakly (warnings).
 //!
-//! Stiffness is compared mass-free and scale-consistently: rotations are
-//! multiplied by the model's characteristic length, so every reduced stiffness
-//! is in N/mm and the ratio to the stiffest mode is dimensionless.
+//! Stiffness is compared mass-free and scale-consistently: each moving part's
+//! motion is written as the velocity of the centroid of its connection
+//! markers (those of joints and force elements, which alone carry stiffness)
+//! and its rotation times the size of the mechanism those markers span, so
+//! every reduced stiffness is in N/mm and the ratio to the stiffest mode is
+//! dimensionless. Neither the global origin nor a marker that connects
+//! nothing (a wheel centre written `30 m`) changes a verdict, as they did when
+//! rotations were about the origin and scaled by the spread of all markers
+//! ([`PartFrames`]).
 
 use super::Problem;
 use super::coords::{Layout, State};
@@ -129,12 +135,131 @@ pub fn describe_motion(model: &Model, layout: &Layout, dq: &DVector<f64>, length
     }
 }
 
+/// The coordinates the analysis uses, part by part: `(v, φ)` with `v` the
+/// velocity of the part's centroid `c` and `φ = l θ` its rotation times the
+/// mechanism's size `l`; the solver's coordinates are `x = v + c × φ / l`,
+/// `θ = φ / l` (`dq = T dq'`, block-diagonal `T`, applied block by block).
+pub struct PartFrames {
+    /// Per moving part (layout order): centroid (mm, design) and the length
+    /// rotations are scaled by (mm, at least 1).
+    frames: Vec<(Vec3, f64)>,
+}
+
+impl PartFrames {
+    /// Each moving part's centroid of connection markers (those the joints
+    /// and force elements attach to; all its markers when it has none), and
+    /// the size of the mechanism: the largest distance of a connection
+    /// marker from their common centroid.
+    pub fn new(model: &Model, layout: &Layout) -> PartFrames {
+        let mut connected = vec![false; model.markers.len()];
+        let pairs = model
+            .joints
+            .iter()
+            .map(|j| (j.i, j.j))
+            .chain(model.bushings.iter().map(|b| (b.i, b.j)))
+            .chain(model.springs.iter().map(|s| (s.i, s.j)))
+            .chain(model.stops.iter().map(|s| (s.i, s.j)));
+        for (i, j) in pairs {
+            for m in [i, j] {
+                if let Some(c) = connected.get_mut(m.index()) {
+                    *c = true;
+                }
+            }
+        }
+        let frames = layout
+            .moving
+            .iter()
+            .map(|&p| {
+                let on = |only: bool| -> Vec<Vec3> {
+                    model
+                        .markers
+                        .iter()
+                        .enumerate()
+                        .filter(|(k, m)| m.part == p && (!only || connected[*k]))
+                        .map(|(_, m)| m.origin())
+                        .collect()
+                };
+                let mut pts = on(true);
+                if pts.is_empty() {
+                    pts = on(false);
+                }
+                if pts.is_empty() {
+                    return Vec3::zeros();
+                }
+                pts.iter().sum::<Vec3>() / pts.len() as f64
+            })
+            .collect::<Vec<Vec3>>();
+        let pts: Vec<Vec3> = model
+            .markers
+            .iter()
+            .zip(&connected)
+            .filter(|(_, c)| **c)
+            .map(|(m, _)| m.origin())
+            .collect();
+        let length = if pts.is_empty() {
+            1.0
+        } else {
+            let c = pts.iter().sum::<Vec3>() / pts.len() as f64;
+            pts.iter().map(|q| (q - c).norm()).fold(1.0, f64::max)
+        };
+        PartFrames {
+            frames: frames.into_iter().map(|c| (c, length)).collect(),
+        }
+    }
+
+    /// `A T`: the columns of `a` (solver coordinates) in the part coordinates.
+    pub fn right(&self, a: &DMatrix<f64>) -> DMatrix<f64> {
+        let mut out = a.clone();
+        for (b, &(c, l)) in self.frames.iter().enumerate() {
+            let (x, th) = (6 * b, 6 * b + 3);
+            for r in 0..a.nrows() {
+                let ax = Vec3::new(a[(r, x)], a[(r, x + 1)], a[(r, x + 2)]);
+                // The row times [c]x: a_x^T [c]x = ([c]x^T a_x)^T = (a_x x c)^T.
+                let cross = ax.cross(&c);
+                for k in 0..3 {
+                    out[(r, th + k)] = (cross[k] + a[(r, th + k)]) / l;
+                }
+            }
+        }
+        out
+    }
+
+    /// `T^T A T` for a square `a`.
+    pub fn congruence(&self, a: &DMatrix<f64>) -> DMatrix<f64> {
+        self.right(&self.right(a).transpose()).transpose()
+    }
+
+    /// `T v`: a motion in part coordinates back in solver coordinates.
+    pub fn motion(&self, v: &DVector<f64>) -> DVector<f64> {
+        let mut dq = v.clone();
+        for (b, &(c, l)) in self.frames.iter().enumerate() {
+            let (x, th) = (6 * b, 6 * b + 3);
+            let phi = Vec3::new(v[th], v[th + 1], v[th + 2]) / l;
+            let cx = c.cross(&phi);
+            for k in 0..3 {
+                dq[x + k] = v[x + k] + cx[k];
+                dq[th + k] = phi[k];
+            }
+        }
+        dq
+    }
+}
+
 /// Mobility of a problem at design: counts, redundancy, unrestrained motions.
 pub fn analyse(p: &Problem) -> Mobility {
     let (model, layout) = (&p.model, &p.layout);
     let design = State::design(model);
     let all: Vec<usize> = (0..p.equations.len()).collect();
-    let sj = scaled_jacobian(model, layout, &design, &p.equations, &all, p.length);
+    let frames = PartFrames::new(model, layout);
+    // The constraint Jacobian in part coordinates, rows normalised again.
+    let mut jac =
+        frames.right(&scaled_jacobian(model, layout, &design, &p.equations, &all, 1.0).jac);
+    for mut row in jac.row_iter_mut() {
+        let norm = row.norm();
+        if norm > 0.0 {
+            row /= norm;
+        }
+    }
     let n = layout.n();
     let mut mob = Mobility {
         coordinates: n,
@@ -143,7 +268,7 @@ pub fn analyse(p: &Problem) -> Mobility {
         redundant: p.redundant.clone(),
         ..Mobility::default()
     };
-    let Some((rank, null)) = rank_and_null_space(&sj.jac) else {
+    let Some((rank, null)) = rank_and_null_space(&jac) else {
         // No SVD: fall back on the greedy count, which needs no iteration.
         mob.rank = p.kept.len();
         mob.dof = n - mob.rank;
@@ -162,13 +287,12 @@ pub fn analyse(p: &Problem) -> Mobility {
     for (_, w) in ws {
         w.add_tangent(&mut k);
     }
-    let s = |i: usize| if i % 6 >= 3 { 1.0 / p.length } else { 1.0 };
-    let k = DMatrix::from_fn(n, n, |i, j| -k[(i, j)] * s(i) * s(j));
+    let k = frames.congruence(&-k);
     let kr = null.transpose() * (&k + k.transpose()) * 0.5 * &null;
     let eig = kr.symmetric_eigen();
     let kmax = eig.eigenvalues.iter().cloned().fold(0.0, f64::max);
     let describe = |v: DVector<f64>, ratio: f64| {
-        let dq = DVector::from_fn(n, |r, _| v[r] * s(r));
+        let dq = frames.motion(&v);
         let mut motion = describe_motion(model, layout, &dq, p.length);
         motion.ratio = ratio;
         motion

@@ -120,7 +120,7 @@ pub struct Equilibrium {
     /// Extra load steps taken because a full step failed (0: one step sufficed).
     pub substeps: usize,
     /// Final residual: the larger of the force residual relative to the force
-    /// scale and the constraint residual relative to the characteristic length.
+    /// scale at the equilibrium (its largest element force or applied load) and the constraint residual relative to the characteristic length.
     pub residual: f64,
     pub reactions: Vec<Reaction>,
 }
@@ -159,6 +159,34 @@ fn force_scale(p: &Problem, loads: &[PointLoad], start: &State, element_scale: f
         f = f.max(l.force.norm() + l.torque.norm() / p.length);
     }
     f
+}
+
+/// A load beyond any suspension (`check`'s E0214 limits: 10 MN, 10 MN·m) as
+/// an error naming its marker and value: such a load (a slip of exponent,
+/// `1e200 N`) swamps every tolerance and overflows the force norms, so it is
+/// refused rather than solved. Every caller of the statics (a loads file, an
+/// API user, a sweep) meets the same limit.
+fn implausible_load(loads: &[PointLoad]) -> Option<StaticsError> {
+    use crate::units::Dim;
+    for l in loads {
+        for (v, dim, unit) in [(l.force, Dim::FORCE, "N"), (l.torque, Dim::TORQUE, "N*mm")] {
+            let Some((limit, shown)) = crate::check::plausible_limit(dim) else {
+                continue;
+            };
+            // The largest component: its magnitude cannot overflow.
+            let big = v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            if big > limit {
+                return Some(StaticsError::new(
+                    StaticsErrorKind::BadInput,
+                    vec![ElementId::Marker(l.marker)],
+                    format!(
+                        "a load of {big:e} {unit} is beyond any suspension (more than {shown}): check the unit and the exponent"
+                    ),
+                ));
+            }
+        }
+    }
+    None
 }
 
 /// The smallest load step (of the whole change of load) before giving up.
@@ -215,6 +243,9 @@ pub(crate) fn solve_reusing(
             vec![ElementId::Marker(l.marker)],
             "a load component is not a finite number",
         ));
+    }
+    if let Some(e) = implausible_load(loads) {
+        return Err(e);
     }
     let m = problem.kept.len();
     let dim = problem.layout.n() + m;
@@ -282,14 +313,7 @@ pub(crate) fn solve_reusing(
         }
         evaluated = false;
     }
-    let eq = finish(
-        problem,
-        state,
-        iterations,
-        steps.saturating_sub(1),
-        force,
-        sv,
-    )?;
+    let eq = finish(problem, state, iterations, steps.saturating_sub(1), sv)?;
     sv.ended_at = Some(eq.state.clone());
     Ok(eq)
 }
@@ -309,10 +333,9 @@ fn finish(
     state: State,
     iterations: usize,
     substeps: usize,
-    force: f64,
     sv: &mut Solver,
 ) -> Result<Equilibrium, StaticsError> {
-    let (ef, ec) = sv.ws.errors(p, force);
+    let (ef, ec) = sv.ws.errors(p);
     // A load that happens not to excite a free motion still converges; the
     // equilibrium is then not unique, which is an error, not a result.
     // The last iteration's factorisation stands for the equilibrium's matrix

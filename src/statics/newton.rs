@@ -22,8 +22,10 @@ use crate::model::{ElementId, PointLoad};
 use faer::Mat;
 use nalgebra::{DMatrix, DVector};
 
-/// Relative tolerance on the force residual (of the force scale) and on the
-/// constraint residual (of the characteristic length).
+/// Relative tolerance on the force residual (of the force scale at the state
+/// judged: the largest element force there or applied load, see
+/// [`Workspace::force_scale`]) and on the constraint residual (of the
+/// characteristic length).
 pub const FORCE_TOL: f64 = 1e-10;
 pub const CONSTRAINT_TOL: f64 = 1e-12;
 const MAX_ITERATIONS: usize = 40;
@@ -56,6 +58,8 @@ pub(crate) struct Workspace {
     pub a: Mat<f64>,
     /// Largest element force (force plus moment over the length) at the state, N.
     pub element_scale: f64,
+    /// Largest applied load (force plus moment over the length) evaluated, N.
+    pub load_scale: f64,
     scale: Vec<f64>,
 }
 
@@ -68,6 +72,7 @@ impl Workspace {
             row_scale: vec![1.0; m],
             a: Mat::zeros(n + m, n + m),
             element_scale: 0.0,
+            load_scale: 0.0,
             scale: (0..n).map(|c| col_scale(c, p.length)).collect(),
         }
     }
@@ -89,6 +94,7 @@ impl Workspace {
             row_scale,
             a,
             element_scale,
+            load_scale,
             scale,
         } = self;
         r.iter_mut().for_each(|v| *v = 0.0);
@@ -126,8 +132,10 @@ impl Workspace {
             add(w, 1.0, r, a, tangent, scale);
         })?;
         *element_scale = elem;
+        *load_scale = 0.0;
         for ld in loads {
             if let Some(w) = point_load(&p.model, &p.layout, st, ld) {
+                *load_scale = load_scale.max(w.g.norm() + w.m.norm() / l);
                 add(&w, 1.0, r, a, tangent, scale);
             }
         }
@@ -176,10 +184,31 @@ impl Workspace {
         }
     }
 
-    /// Scaled residual norms: force (of `force`) and constraint (of the length).
-    pub fn errors(&self, p: &Problem, force: f64) -> (f64, f64) {
-        let amax = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        (amax(&self.r) / force, amax(&self.phi) / p.length)
+    /// The force scale convergence is judged against: the largest force in
+    /// the balance at the state evaluated (element forces and applied loads,
+    /// at least 1 N). Not the scale of the start: a previous case's huge load
+    /// (or its element forces) must not make the next case's residual look
+    /// negligible, so a stale pose is never accepted as converged.
+    pub fn force_scale(&self) -> f64 {
+        let f = self.element_scale.max(self.load_scale);
+        // `max` drops a NaN: an undefined force makes the scale infinite.
+        if f.is_nan() {
+            f64::INFINITY
+        } else {
+            f.max(1.0)
+        }
+    }
+
+    /// Scaled residual norms: force (of [`Workspace::force_scale`]) and
+    /// constraint (of the length). A residual or scale that is not finite
+    /// (a force overflowing) is an infinite error, never a converged one.
+    pub fn errors(&self, p: &Problem) -> (f64, f64) {
+        let force = self.force_scale();
+        let (r, phi) = (amax(&self.r), amax(&self.phi));
+        if !force.is_finite() || !r.is_finite() || !phi.is_finite() {
+            return (f64::INFINITY, f64::INFINITY);
+        }
+        (r / force, phi / p.length)
     }
 
     fn merit(&self, p: &Problem, force: f64) -> f64 {
@@ -192,6 +221,18 @@ impl Workspace {
         let nn = self.a.nrows();
         DMatrix::from_fn(nn, nn, |i, j| self.a[(i, j)])
     }
+}
+
+/// The largest magnitude, infinite when an entry is NaN (which `f64::max`
+/// would silently drop).
+fn amax(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| {
+        if x.is_nan() {
+            f64::INFINITY
+        } else {
+            m.max(x.abs())
+        }
+    })
 }
 
 pub(crate) fn assemble(
@@ -315,7 +356,7 @@ pub(crate) fn newton(
     // along it (see below).
     let mut kink_step = !p.model.frictions.is_empty();
     for it in 0..MAX_ITERATIONS {
-        let (ef, ec) = sv.ws.errors(p, force);
+        let (ef, ec) = sv.ws.errors(p);
         if ef < FORCE_TOL && ec < CONSTRAINT_TOL {
             return Ok(it);
         }
@@ -529,6 +570,30 @@ mod tests {
             force: Vec3::new(fx, fy, fz),
             torque: Vec3::zeros(),
         }]
+    }
+
+    /// A NaN in the residual (an element force undefined at a state) or an
+    /// overflowing force scale is an infinite error: `f64::max` would drop
+    /// the NaN and report 0, that is, "converged".
+    #[test]
+    fn an_undefined_residual_is_never_converged() {
+        let m = mcpherson();
+        let p = Problem::new(&m).expect("problem");
+        let mut ws = Workspace::new(&p);
+        ws.eval(
+            &p,
+            &State::design(&m),
+            &wheel_load(&m, 0.0, 0.0, 1500.0),
+            false,
+        )
+        .expect("evaluates");
+        let (ef, _) = ws.errors(&p);
+        assert!(ef.is_finite() && ef > FORCE_TOL, "{ef}");
+        ws.r[3] = f64::NAN;
+        assert_eq!(ws.errors(&p), (f64::INFINITY, f64::INFINITY));
+        ws.r[3] = 0.0;
+        ws.element_scale = f64::INFINITY;
+        assert_eq!(ws.errors(&p).0, f64::INFINITY);
     }
 
     /// The whole Newton matrix (elements, the moving load, the λ-weighted
