@@ -303,7 +303,14 @@ mod tests {
         }
         v["trim"] = trim.clone();
         round_tree(&mut v);
-        let direct = solve(&m.name, &ls.name, &reports, failed.as_ref(), None, Some(&trim));
+        let direct = solve(
+            &m.name,
+            &ls.name,
+            &reports,
+            failed.as_ref(),
+            None,
+            Some(&trim),
+        );
         (direct, format!("{v:#}\n"))
     }
 
