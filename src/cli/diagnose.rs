@@ -152,9 +152,9 @@ pub fn run(a: &Args) -> Exit {
         }
     }
     let text = match a.format {
-        Format::Table => crate::output::diagnose_table::table(&d, &model.name),
+        Format::Table => crate::output::diagnose_table::table(&d, &paths, &model.name),
         Format::Json => {
-            let v = crate::output::diagnose_json::to_json(&d);
+            let v = crate::output::diagnose_json::to_json(&d, &paths);
             serde_json::to_string_pretty(&v).unwrap_or_default() + "\n"
         }
     };

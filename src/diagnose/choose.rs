@@ -52,6 +52,10 @@ pub struct ParamResult {
     /// The value the fit ended at, determined or not (kept in the extended
     /// model, which needs a number; never printed as a finding).
     pub fitted: f64,
+    /// The fit ended on a bound of the search (a stiffness 10 times the
+    /// model's): the data want more than the candidate allows, so the value
+    /// is not an estimate (and is not printed as one).
+    pub at_bound: bool,
 }
 
 /// A candidate fitted and judged.
@@ -171,7 +175,8 @@ fn results(cand: &Candidate, f: &Fitted) -> Vec<ParamResult> {
         .map(|(i, p)| {
             let shown = |x: f64| to_boundary(p.scale.value(x), p.dim);
             let search = f.interval(i);
-            let determined = search.is_some_and(|(a, b)| determined(p, f.x[i], a, b));
+            let at_bound = (f.x[i] - p.lo).abs() < 1e-6 || (f.x[i] - p.hi).abs() < 1e-6;
+            let determined = !at_bound && search.is_some_and(|(a, b)| determined(p, f.x[i], a, b));
             let interval = search.map(|(a, b)| {
                 let (a, b) = (shown(a.max(p.lo)), shown(b.min(p.hi)));
                 (a.min(b), a.max(b))
@@ -183,6 +188,7 @@ fn results(cand: &Candidate, f: &Fitted) -> Vec<ParamResult> {
                 interval: if determined { interval } else { None },
                 nominal: p.nominal.map(|v| to_boundary(v, p.dim)),
                 fitted: shown(f.x[i]),
+                at_bound,
             }
         })
         .collect()

@@ -25,6 +25,7 @@ pub mod noise;
 pub mod replay;
 pub mod rig;
 pub mod screen;
+pub mod structure;
 pub mod words;
 
 pub use choose::{Diagnosis, Effect, Hypothesis, ParamResult, Summary};

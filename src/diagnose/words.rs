@@ -23,6 +23,9 @@ pub fn num(v: f64) -> String {
 
 /// "775 [742, 810] N/mm", or "undetermined".
 pub fn value(p: &ParamResult) -> String {
+    if p.at_bound {
+        return "at the end of its search range (not an estimate)".to_string();
+    }
     match (p.value, p.interval) {
         (Some(v), Some((a, b))) => format!("{} [{}, {}] {}", num(v), num(a), num(b), p.unit),
         _ => "undetermined".to_string(),
@@ -94,6 +97,9 @@ pub fn claim(h: &Hypothesis) -> String {
                         against(q)
                     )
                 }
+                _ if q.at_bound => format!(
+                    "{what} of a stiffness beyond 10 times the model's (the end of its search range)"
+                ),
                 _ => format!("{what} of a stiffness the data do not determine"),
             }
         }

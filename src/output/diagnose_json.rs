@@ -5,7 +5,8 @@
 
 use crate::diagnose::channel::{Channel, Measured};
 use crate::diagnose::noise::Source;
-use crate::diagnose::{Diagnosis, Effect, Hypothesis, ParamResult, words};
+use crate::diagnose::rig::RigPath;
+use crate::diagnose::{Diagnosis, Effect, Hypothesis, ParamResult, structure, words};
 use serde_json::{Map, Value, json};
 
 fn num(v: f64) -> Value {
@@ -61,7 +62,7 @@ fn effect(e: &Effect, d: &Diagnosis) -> Value {
     })
 }
 
-pub fn to_json(d: &Diagnosis) -> Value {
+pub fn to_json(d: &Diagnosis, rig: &[RigPath]) -> Value {
     let noise: Map<String, Value> = Channel::ALL
         .into_iter()
         .map(|c| {
@@ -91,6 +92,12 @@ pub fn to_json(d: &Diagnosis) -> Value {
             "rms_held_out": channels(&d.baseline.rms_held_out),
         },
         "noise": noise,
+        "residual_structure": structure::patterns(rig, &d.nominal, &d.noise).iter().map(|p| json!({
+            "path": p.path, "channel": p.channel.name(), "rms": num(p.rms), "shape": p.shape,
+            "hysteresis": p.hysteresis.map_or(Value::Null, num),
+            "worst_at": { "load": p.worst_at.0, "value": num(p.worst_at.1) },
+            "sentence": p.sentence,
+        })).collect::<Vec<_>>(),
         "held_out": { "rule": "every third step of each path", "residuals": d.held_out, "training_residuals": d.training },
         "hypotheses": d.hypotheses.iter().enumerate().map(|(k, h)| hypothesis(k + 1, h)).collect::<Vec<_>>(),
         "verdict": verdict,

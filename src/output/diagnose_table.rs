@@ -4,10 +4,11 @@
 
 use crate::diagnose::channel::Channel;
 use crate::diagnose::noise::Source;
-use crate::diagnose::{Diagnosis, words};
+use crate::diagnose::rig::RigPath;
+use crate::diagnose::{Diagnosis, structure, words};
 use std::fmt::Write;
 
-pub fn table(d: &Diagnosis, model: &str) -> String {
+pub fn table(d: &Diagnosis, rig: &[RigPath], model: &str) -> String {
     let mut o = String::new();
     let _ = writeln!(o, "model {model}: diagnosis against the rig");
     if d.effects.is_empty() {
@@ -20,6 +21,17 @@ pub fn table(d: &Diagnosis, model: &str) -> String {
         let _ = writeln!(o, "{}. {}", k + 1, words::sentence(e, &d.noise));
     }
     let total = d.total_gain();
+    let patterns = structure::patterns(rig, &d.nominal, &d.noise);
+    if !patterns.is_empty() {
+        let _ = writeln!(o);
+        let _ = writeln!(
+            o,
+            "what the nominal model gets wrong (channels beyond twice their noise):"
+        );
+        for p in &patterns {
+            let _ = writeln!(o, "  {}", p.sentence);
+        }
+    }
     let _ = writeln!(o);
     let _ = writeln!(
         o,
