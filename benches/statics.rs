@@ -1,7 +1,8 @@
 //! Speed of the statics engine on the McPherson benchmark (`docs/performance.md`):
 //! the 13-case thesis table 5-1 from a warm start and from design, the 57-step
 //! bump sweep (also with strut friction), and scaling with a synthetic model of N McPherson corners on one
-//! ground. Run with `cargo bench --bench statics`.
+//! ground; the 500-case random load path of issue 12 and the cost of its
+//! `solve --format json` document. Run with `cargo bench --bench statics`.
 
 use axle::model::{Channel, LoadSet, LoadSetId, LoadTarget, Model, PartId, WheelId};
 use axle::statics::Problem;
@@ -43,6 +44,20 @@ fn main() {
         "thesis_table_5_1 extra load sub-steps per case, warm start: {}",
         subs.join(" ")
     );
+    // Newton steps of the N-corner bench, for the cost per step.
+    for n in [1, 2, 4, 8] {
+        let (m, set) = corners(n);
+        let p = Problem::new(&m).expect("problem");
+        let start = solve_path(&p, set)
+            .expect("solves")
+            .pop()
+            .expect("cases")
+            .state;
+        let warm = solve_path_from(&p, set, &start).expect("solves");
+        let steps: usize = warm.iter().map(|e| e.iterations).sum();
+        let lus: usize = warm.iter().map(|e| e.factorizations).sum();
+        println!("corners N = {n}: {steps} Newton steps, {lus} factorisations (warm set)");
+    }
     divan::main();
 }
 
@@ -188,4 +203,109 @@ fn corners_table_5_1_warm(b: Bencher, n: usize) {
         .expect("cases")
         .state;
     b.bench_local(|| solve_path_from(&p, set, &start).expect("solves"));
+}
+
+/// The random McPherson path of issue 12 (wheel loads at the contact point:
+/// fz 2000-7000 N, fx and fy within ±2500 N, a random walk with steps of at
+/// most 1500 N, fixed xorshift seed) added to the model as a load set.
+fn random_path(n: usize) -> (Model, LoadSetId) {
+    let (mut m, _) = mcpherson("thesis_table_5_1");
+    let mut s = 0x2545_F491_4F6C_DD1Du64;
+    let mut uniform = || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (lo, hi) = ([-2500.0, -2500.0, 2000.0], [2500.0, 2500.0, 7000.0]);
+    let mut x = [0.0f64, 0.0, 3000.0];
+    let mut csv = String::from("step,fx,fy,fz\n");
+    for k in 0..n {
+        let d = [0; 3].map(|_| 2.0 * uniform() - 1.0);
+        let len = d.iter().map(|v| v * v).sum::<f64>().sqrt().max(1e-9);
+        let r = 1500.0 * uniform();
+        for i in 0..3 {
+            let v = (x[i] + r * d[i] / len).clamp(lo[i], hi[i]);
+            x[i] = (v * 10.0).round() / 10.0;
+        }
+        csv += &format!("{},{},{},{}\n", k + 1, x[0], x[1], x[2]);
+    }
+    let set = axle::data::loads::read(&csv, "random", &m).expect("loads csv");
+    m.load_sets.push(set);
+    let id = LoadSetId(m.load_sets.len() as u32 - 1);
+    (m, id)
+}
+
+/// The 500-case random path from design, `Problem` compiled once (divide by
+/// 500 for the cost per case).
+#[divan::bench(sample_count = 30)]
+fn random_500_path(b: Bencher) {
+    let (m, set) = random_path(500);
+    let p = Problem::new(&m).expect("problem");
+    b.bench_local(|| solve_path(&p, set).expect("solves"));
+}
+
+/// `solve --format json` of the 500 solved cases: the per-case reports and
+/// the document (divide by 500 for the cost per case).
+#[divan::bench(sample_count = 30)]
+fn random_500_json(b: Bencher) {
+    let (m, set) = random_path(500);
+    let p = Problem::new(&m).expect("problem");
+    let eqs = solve_path(&p, set).expect("solves");
+    let ls = &m.load_sets[set.index()];
+    b.bench_local(|| {
+        let reports: Vec<_> = eqs
+            .iter()
+            .zip(&ls.cases)
+            .enumerate()
+            .map(|(k, (eq, c))| axle::output::report::case_report(&m, &c.name, k + 1, eq))
+            .collect();
+        axle::output::solve_json::solve(&m.name, &ls.name, &reports, None, None)
+    });
+}
+
+/// 16 independent paths (table 5-1 scaled by 0.65..1.0, from design), the
+/// shape of a multi-start or candidate batch.
+fn batch_jobs() -> (Problem, Vec<axle::statics::batch::PathJob>) {
+    let (m, set) = mcpherson("thesis_table_5_1");
+    let base = axle::statics::path::set_loads(&m, set).expect("loads");
+    let design = axle::statics::State::design(&m);
+    let jobs = (0..16)
+        .map(|k| {
+            let s = 0.65 + 0.35 * k as f64 / 15.0;
+            let cases = base
+                .iter()
+                .map(|c| {
+                    c.iter()
+                        .map(|l| axle::model::PointLoad {
+                            force: l.force * s,
+                            torque: l.torque * s,
+                            ..*l
+                        })
+                        .collect()
+                })
+                .collect();
+            axle::statics::batch::PathJob {
+                cases,
+                start: design.clone(),
+            }
+        })
+        .collect();
+    (Problem::new(&m).expect("problem"), jobs)
+}
+
+/// The 16 paths on all cores (`statics::batch::paths`).
+#[divan::bench(sample_count = 50)]
+fn batch_16_paths_parallel(b: Bencher) {
+    let (p, jobs) = batch_jobs();
+    b.bench_local(|| axle::statics::batch::paths(&p, &jobs));
+}
+
+/// The same 16 paths one after the other on one thread.
+#[divan::bench(sample_count = 50)]
+fn batch_16_paths_serial(b: Bencher) {
+    let (p, jobs) = batch_jobs();
+    b.bench_local(|| {
+        axle::statics::batch::map_serial(&jobs, |sim, j| sim.run(&p, &j.cases, &j.start, &[]))
+    });
 }

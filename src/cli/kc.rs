@@ -5,12 +5,10 @@ use super::{Exit, OutFormat};
 use crate::diagnostic::Diagnostic;
 use crate::kc::{KcRow, kc_rows};
 use crate::model::{Component, LoadForm, LoadSet, LoadSetId, Model};
-use crate::output::number::round_json;
 use crate::output::plot::{Sweep, svg};
 use crate::output::warning;
-use crate::output::{columns, kc_table};
+use crate::output::{columns, kc_table, solve_json};
 use crate::statics::{Equilibrium, Problem, compliance};
-use serde_json::{Value, json};
 use std::path::PathBuf;
 
 pub struct Args {
@@ -167,18 +165,8 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
             )
         }
         OutFormat::Json => {
-            let c: serde_json::Map<String, Value> =
-                comp.iter().map(|(w, m)| (w.clone(), json!(m))).collect();
-            let mut v = json!({
-                "model": model.name, "sweep": ls.name, "rows": kc_table::json_rows(&rows),
-                "compliance_mm_per_kn": c,
-                "iterations": eqs.iter().map(|e| e.iterations).collect::<Vec<_>>(),
-            });
-            if let Some(f) = failed {
-                v["failed"] = json!(f);
-            }
-            round_json(&mut v);
-            format!("{v:#}\n")
+            let iterations: Vec<usize> = eqs.iter().map(|e| e.iterations).collect();
+            solve_json::kc(&model.name, &ls.name, &rows, &comp, &iterations, failed)
         }
     };
     match emit(args.output.as_deref(), &text) {

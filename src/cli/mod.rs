@@ -6,6 +6,7 @@
 
 pub mod check;
 pub mod correct;
+pub mod diagnose;
 pub mod emit;
 pub mod fmt;
 pub mod identify;
@@ -140,6 +141,9 @@ pub enum Cmd {
     /// Identify stiffnesses (and other unknowns) from measured equilibria
     /// (thesis chapters 4 and 5, and least squares).
     Identify(identify::IdentifyArgs),
+    /// What the model gets wrong against K&C rig data, the physical cause,
+    /// the extended model and its gain on held-out steps (docs/diagnose.md).
+    Diagnose(diagnose::Args),
 }
 
 /// Exit status: 0 success, 1 the input is wrong, 2 usage or I/O error (the
@@ -184,6 +188,10 @@ impl Cmd {
                     opt(&a.loads),
                 ]
                 .concat(),
+                [opt(&a.output), opt(&a.report)].concat(),
+            ),
+            Cmd::Diagnose(a) => (
+                [vec![a.file.as_path()], all(&a.kc)].concat(),
                 [opt(&a.output), opt(&a.report)].concat(),
             ),
         }
@@ -260,6 +268,7 @@ pub fn run(cli: Cli) -> Exit {
             output,
         } => import::run(&file, output.as_ref()),
         Cmd::Identify(args) => identify::run(&args),
+        Cmd::Diagnose(args) => diagnose::run(&args),
     }
 }
 

@@ -7,9 +7,8 @@ use crate::kc::kc_rows;
 use crate::model::LoadSetId;
 use crate::output::report::{CaseReport, case_report};
 use crate::output::warning;
-use crate::output::{kc_table, number::round_json, parts_csv, solve_table};
+use crate::output::{kc_table, parts_csv, solve_json, solve_table};
 use crate::statics::Problem;
-use serde_json::json;
 use std::path::PathBuf;
 
 pub struct TrimArgs {
@@ -91,24 +90,14 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
     loaded.report(&warning::of_path(model, &names, eqs));
 
     let text = match args.format {
-        OutFormat::Json => {
-            let mut v = json!({ "model": model.name, "load_set": ls.name, "cases": reports });
-            if let (Some(f), Some(cases)) = (failed, v["cases"].as_array_mut()) {
-                cases.push(json!(f));
-            }
-            if failed.is_some() {
-                let rest: Vec<_> = not_solved
-                    .iter()
-                    .map(|(name, step)| json!({ "name": name, "step": step }))
-                    .collect();
-                v["not_solved"] = json!(rest);
-            }
-            if let Some(t) = &trim {
-                v["trim"] = t.json.clone();
-            }
-            round_json(&mut v);
-            format!("{v:#}\n")
-        }
+        OutFormat::Json => solve_json::solve(
+            &model.name,
+            &ls.name,
+            &reports,
+            failed,
+            &not_solved,
+            trim.as_ref().map(|t| &t.json),
+        ),
         OutFormat::Table => {
             let head = trim
                 .as_ref()

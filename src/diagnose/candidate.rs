@@ -101,6 +101,18 @@ impl Candidate {
         m
     }
 
+    /// The element of the extended model that carries the change (the one
+    /// an edited file comments): the element itself, or the one the
+    /// extension adds (a stop, a friction, a split part's bushing).
+    pub fn changed(&self, base: &Model) -> ElementId {
+        match self.kind {
+            Kind::BumpStop | Kind::ReboundStop => ElementId::Stop(StopId(base.stops.len() as u32)),
+            Kind::Friction => ElementId::Friction(FrictionId(base.frictions.len() as u32)),
+            Kind::PartCompliance => ElementId::Bushing(BushingId(base.bushings.len() as u32)),
+            _ => self.element,
+        }
+    }
+
     /// The element's name in the nominal model.
     pub fn element_name(&self, base: &Model) -> String {
         base.describe(self.element)

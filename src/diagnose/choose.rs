@@ -59,6 +59,8 @@ pub struct ParamResult {
 pub struct Hypothesis {
     pub kind: Kind,
     pub element: ElementId,
+    /// The element of the extended model that carries the change.
+    pub changed: ElementId,
     pub element_name: String,
     pub detail: String,
     pub params: Vec<ParamResult>,
@@ -168,11 +170,12 @@ fn results(cand: &Candidate, f: &Fitted) -> Vec<ParamResult> {
         .enumerate()
         .map(|(i, p)| {
             let shown = |x: f64| to_boundary(p.scale.value(x), p.dim);
-            let interval = f.interval(i).map(|(a, b)| {
+            let search = f.interval(i);
+            let determined = search.is_some_and(|(a, b)| determined(p, f.x[i], a, b));
+            let interval = search.map(|(a, b)| {
                 let (a, b) = (shown(a.max(p.lo)), shown(b.min(p.hi)));
                 (a.min(b), a.max(b))
             });
-            let determined = interval.is_some_and(|(a, b)| determined(p, shown(f.x[i]), a, b));
             ParamResult {
                 name: p.name.clone(),
                 unit: p.dim.boundary_unit(),
@@ -186,15 +189,41 @@ fn results(cand: &Candidate, f: &Fitted) -> Vec<ParamResult> {
 }
 
 /// A parameter is determined when its 95 % interval is within a factor 1.5
-/// (a ratio) or narrower than half its value or one probe (a length).
-fn determined(p: &CandParam, v: f64, lo: f64, hi: f64) -> bool {
+/// either way (a ratio), or when its half-width is below half the change
+/// fitted or one probe step (a length: a joint point, a free length).
+fn determined(p: &CandParam, x: f64, lo: f64, hi: f64) -> bool {
     match p.scale {
-        Scale::Log { .. } => lo > 0.0 && hi / lo < 1.5 * 1.5,
-        Scale::Linear { unit, .. } => {
-            let probe = to_boundary(p.probe.abs() * unit.abs(), p.dim);
-            (hi - lo) / 2.0 < (0.5 * v.abs()).max(probe)
-        }
+        Scale::Log { .. } => (hi - lo) / 2.0 < 1.5f64.ln(),
+        Scale::Linear { .. } => (hi - lo) / 2.0 < (0.5 * x.abs()).max(p.probe.abs()),
     }
+}
+
+/// The fitted point with each model value rounded to a tenth of its
+/// standard error (at least six significant digits kept; four for an
+/// undetermined one), so the extended file reads `775.3`, not `775.2817…`.
+fn rounded(c: &Candidate, f: &Fitted) -> Vec<f64> {
+    c.params
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let v = p.scale.value(f.x[i]);
+            let d = (p.scale.value(f.x[i] + 1e-6) - v).abs() / 1e-6;
+            let sd = d * f.sd[i];
+            let mag = v.abs().max(1e-300).log10().floor();
+            let step = if sd.is_finite() && sd > 0.0 {
+                10f64
+                    .powf((sd / 10.0).log10().floor())
+                    .max(10f64.powf(mag - 5.0))
+            } else {
+                10f64.powf(mag - 3.0)
+            };
+            let r = (v / step).round() * step;
+            // Printing a multiple of `step` exactly: round the decimal digits.
+            let digits = (-step.log10().floor()).clamp(0.0, 12.0) as i32;
+            let r = (r * 10f64.powi(digits)).round() / 10f64.powi(digits);
+            p.scale.search(r)
+        })
+        .collect()
 }
 
 struct Round {
@@ -266,7 +295,10 @@ fn round(
     for (i, f) in fits {
         let c = &cands[i];
         match f {
-            Ok(f) => {
+            Ok(mut f) => {
+                if let Ok(ext) = c.extend(model) {
+                    f.model = c.at(&ext, &rounded(c, &f));
+                }
                 let s = summary(ctx, &f.replay);
                 let fall = before.held_out_chi2 - s.held_out_chi2;
                 let score = fall - penalty(held) * c.params.len() as f64;
@@ -274,6 +306,7 @@ fn round(
                 hypotheses.push(Hypothesis {
                     kind: c.kind,
                     element: c.element,
+                    changed: c.changed(model),
                     element_name: c.element_name(model),
                     detail: c.detail.clone(),
                     params: results(c, &f),

@@ -8,6 +8,8 @@
 //! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`path`] (the
 //! one load-path simulator), [`sensitivity`] (derivatives of equilibria).
 
+pub mod batch;
+pub mod blocks;
 pub mod compliance;
 pub mod constraint;
 pub mod coords;
@@ -340,15 +342,19 @@ fn finish(
     // when the two differ by less than its estimated distance to singular
     // (σ_min moves by at most ‖ΔA‖); a full step that converged at once (the
     // multipliers changed from zero, say) changes the matrix, so factorise it.
-    let stale = !sv.factored || {
-        let moved = sv.lu.distance_to(&sv.ws.a);
-        sv.lu.reciprocal_condition() - moved < CHECK_SINGULAR_BELOW
+    // The estimate is computed once per factorisation (two inverse iterations).
+    let mut rcond = if sv.factored {
+        sv.lu.reciprocal_condition()
+    } else {
+        0.0
     };
+    let stale = !sv.factored || rcond - sv.lu.distance_to(&sv.ws.a) < CHECK_SINGULAR_BELOW;
     if stale {
         sv.lu.factor(&sv.ws.a);
         sv.factorizations += 1;
+        rcond = sv.lu.reciprocal_condition();
     }
-    if sv.lu.reciprocal_condition() < CHECK_SINGULAR_BELOW
+    if rcond < CHECK_SINGULAR_BELOW
         && let Some(e) = newton::singular_direction(p, &sv.ws.matrix())
     {
         return Err(e);

@@ -307,7 +307,7 @@ impl Solver {
         let (n, m) = (p.layout.n(), p.kept.len());
         Solver {
             ws: Workspace::new(p),
-            lu: Lu::new(n + m),
+            lu: Lu::with_blocks(n + m, super::blocks::groups(p, st)),
             factored: false,
             predict: false,
             factorizations: 0,

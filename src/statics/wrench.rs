@@ -114,7 +114,7 @@ impl Wrench {
     }
 
     /// Global coordinate offset of each 6-block of the local order.
-    fn offsets(&self) -> [Option<usize>; 2] {
+    pub(crate) fn offsets(&self) -> [Option<usize>; 2] {
         [self.i.map(|b| 6 * b), self.j.map(|b| 6 * b)]
     }
 

@@ -15,6 +15,43 @@ impl Editor<'_> {
         }
     }
 
+    /// A comment line `// changed by <tool>: <why>` above each element of
+    /// the old file the request gives a reason for (an element changed in
+    /// place keeps its layout; the comment says who changed it and why).
+    pub(super) fn commented(&mut self) {
+        let o = self.old;
+        for (id, why) in self.req.reasons {
+            let (keyword, name) = match *id {
+                ElementId::Bushing(b) if b.index() < o.bushings.len() => {
+                    ("bushing", &o.bushings[b.index()].name)
+                }
+                ElementId::Spring(s) if s.index() < o.springs.len() => {
+                    ("spring", &o.springs[s.index()].name)
+                }
+                ElementId::Joint(j) if j.index() < o.joints.len() => {
+                    ("joint", &o.joints[j.index()].name)
+                }
+                ElementId::Stop(s) if s.index() < o.stops.len() => {
+                    ("stop", &o.stops[s.index()].name)
+                }
+                ElementId::Friction(f) if f.index() < o.frictions.len() => {
+                    ("friction", &o.frictions[f.index()].name)
+                }
+                _ => continue,
+            };
+            let Some(item) = splice::element(self.ast, keyword, name) else {
+                continue;
+            };
+            let at = splice::line_start(self.text, item.span.start as usize);
+            let indent = splice::indent_at(self.text, item.span.start as usize).to_string();
+            self.splice(
+                at,
+                at,
+                format!("{indent}// changed by {}: {why}\n", self.req.tool),
+            );
+        }
+    }
+
     /// New parameters after the last `param` line; new markers and landmarks
     /// of written parts at the end of their part; new parts and elements at
     /// the end of the file.

@@ -90,6 +90,7 @@ pub fn edit_source(
     e.members()?;
     e.elements()?;
     e.added()?;
+    e.commented();
     let out = splice::apply(text, e.splices).map_err(|(start, end)| EditError::Conflict {
         span: crate::span::Span::new(file, start, end),
     })?;

@@ -1,0 +1,203 @@
+//! `axle diagnose FILE --kc CSV... [--noise CHANNEL=SIGMA...] [--candidates KIND,...]
+//! [--format table|json] [-o EXTENDED.axle] [--report DIR]` (`docs/diagnose.md`).
+
+use super::Exit;
+use crate::diagnose::channel::Channel;
+use crate::diagnose::choose::DiagnoseError;
+use crate::diagnose::{Diagnosis, Kind, Options, diagnose, rig};
+use crate::diagnostic::{Diagnostic, render};
+use crate::model::{ElementId, Model};
+use crate::source::SourceMap;
+use std::path::PathBuf;
+
+#[derive(Copy, Clone, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    Table,
+    Json,
+}
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The axle model to diagnose.
+    pub file: PathBuf,
+    /// K&C rig data, one file per measured load path, rows in the order
+    /// measured (step, fx, fy, fz, wc_x, wc_y, wc_z, toe_deg, camber_deg).
+    #[arg(long, required = true, num_args = 1..)]
+    pub kc: Vec<PathBuf>,
+    /// The noise of a channel, e.g. `toe_deg=0.005` (channel units); the
+    /// others are estimated from the data.
+    #[arg(long, value_name = "CHANNEL=SIGMA")]
+    pub noise: Vec<String>,
+    /// The kinds of cause to consider (default: all).
+    #[arg(long, value_name = "KIND,...", value_delimiter = ',')]
+    pub candidates: Vec<String>,
+    #[arg(long, value_enum, default_value = "table")]
+    pub format: Format,
+    /// Write the model with the causes found added here (your file, comments kept).
+    #[arg(short = 'o', long = "output")]
+    pub output: Option<PathBuf>,
+    /// Write an HTML report (K&C curves measured, nominal and extended) into this folder.
+    #[arg(long, value_name = "DIR")]
+    pub report: Option<PathBuf>,
+}
+
+fn usage(message: String) -> Exit {
+    eprintln!("error: {message}");
+    Exit::Io
+}
+
+/// The options from the command line, or a usage error.
+fn options(a: &Args) -> Result<Options, Exit> {
+    let mut o = Options::default();
+    let names: Vec<&str> = Channel::ALL.iter().map(|c| c.name()).collect();
+    for n in &a.noise {
+        let Some((ch, v)) = n.split_once('=') else {
+            return Err(usage(format!(
+                "--noise {n}: expected CHANNEL=SIGMA, channels: {}",
+                names.join(", ")
+            )));
+        };
+        let Some(c) = Channel::parse(ch.trim()) else {
+            return Err(usage(format!(
+                "--noise: no channel `{ch}`; channels: {}",
+                names.join(", ")
+            )));
+        };
+        match v.trim().parse::<f64>() {
+            Ok(s) if s.is_finite() && s > 0.0 => o.noise.push((c, s)),
+            _ => {
+                return Err(usage(format!(
+                    "--noise {n}: the deviation must be a positive number"
+                )));
+            }
+        }
+    }
+    if !a.candidates.is_empty() {
+        o.kinds.clear();
+        for k in &a.candidates {
+            match Kind::parse(k.trim()) {
+                Some(kind) => o.kinds.push(kind),
+                None => {
+                    let all: Vec<&str> = Kind::CAUSES.iter().map(|k| k.name()).collect();
+                    return Err(usage(format!(
+                        "--candidates: no kind `{k}`; kinds: {}",
+                        all.join(", ")
+                    )));
+                }
+            }
+        }
+    }
+    Ok(o)
+}
+
+pub fn run(a: &Args) -> Exit {
+    let opts = match options(a) {
+        Ok(o) => o,
+        Err(e) => return e,
+    };
+    let mut sources = SourceMap::new();
+    let text = match super::read(&a.file) {
+        Ok(t) => t,
+        Err(e) => return e,
+    };
+    let id = sources.add(super::read::shown(&a.file), text);
+    let checked = crate::check::check_file(&mut sources, id);
+    render::to_stderr(&sources, &checked.problems.list);
+    let Some(model) = checked.model else {
+        return Exit::Input;
+    };
+    let mut paths = Vec::new();
+    for p in &a.kc {
+        let text = match super::read(p) {
+            Ok(t) => t,
+            Err(e) => return e,
+        };
+        let name = p.file_stem().map_or_else(
+            || super::read::shown(p),
+            |s| s.to_string_lossy().into_owned(),
+        );
+        let file = sources.add(super::read::shown(p), text);
+        match rig::read(&model, file, &name, sources.text(file)) {
+            Ok(r) => paths.push(r),
+            Err(d) => {
+                render::to_stderr(&sources, &[d]);
+                return Exit::Input;
+            }
+        }
+    }
+    let d = match diagnose(&model, &paths, &opts) {
+        Ok(d) => d,
+        Err(e) => {
+            render::to_stderr(&sources, &[failure(&model, &paths, &e)]);
+            return Exit::Input;
+        }
+    };
+    if let Some(out) = &a.output {
+        let reasons = reasons(&model, &d);
+        let text =
+            match super::model_out::edited(&sources, id, &model, &d.model, "diagnose", &reasons) {
+                Ok(t) => t,
+                Err(code) => return code,
+            };
+        let code = super::input::emit(Some(out), &text);
+        if code != Exit::Ok {
+            return code;
+        }
+    }
+    if let Some(dir) = &a.report {
+        let html = crate::output::diagnose_html::page(&model, &paths, &d);
+        if let Err(e) = std::fs::create_dir_all(dir) {
+            eprintln!("error: cannot create {}: {e}", dir.display());
+            return Exit::Io;
+        }
+        let code = super::input::emit(Some(&dir.join("diagnose.html")), &html);
+        if code != Exit::Ok {
+            return code;
+        }
+    }
+    let text = match a.format {
+        Format::Table => crate::output::diagnose_table::table(&d, &model.name),
+        Format::Json => {
+            let v = crate::output::diagnose_json::to_json(&d);
+            serde_json::to_string_pretty(&v).unwrap_or_default() + "\n"
+        }
+    };
+    super::input::emit(None, &text)
+}
+
+/// The diagnostic of a diagnosis that could not run.
+fn failure(model: &Model, paths: &[rig::RigPath], e: &DiagnoseError) -> Diagnostic {
+    match e {
+        DiagnoseError::Nominal(r) => {
+            let path = &paths[r.path.min(paths.len().saturating_sub(1))];
+            let step = path.steps.get(r.step).map_or(0, |s| s.step);
+            r.error
+                .to_diagnostic(model)
+                .note(format!(
+                    "the model itself does not solve along `{}` at step {step}: diagnose replays the rig on the model as it is first",
+                    path.name
+                ))
+        }
+        DiagnoseError::TooFewSteps { steps, needed } => Diagnostic::error(
+            "E1304",
+            format!(
+                "the K&C files hold {steps} steps; a diagnosis holds every third step out and needs at least {needed}"
+            ),
+        )
+        .hint("measure more steps along each path"),
+    }
+}
+
+/// The comment on each element the diagnosis changed or added.
+fn reasons(model: &Model, d: &Diagnosis) -> Vec<(ElementId, String)> {
+    let _ = model;
+    d.effects
+        .iter()
+        .map(|e| {
+            (
+                e.hypothesis.changed,
+                crate::diagnose::words::sentence(e, &d.noise),
+            )
+        })
+        .collect()
+}

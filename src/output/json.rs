@@ -1,0 +1,214 @@
+//! A small streaming JSON writer for the documents `solve` and `kc` print:
+//! the bytes serde_json's pretty printer gives for the same tree with its
+//! numbers rounded by [`number::round`](super::number::round), written
+//! directly (no `serde_json::Value` tree, no re-parse), because the tree cost
+//! as much per case as the solve itself. Callers write object keys in sorted
+//! order, as serde_json's map (a `BTreeMap`) orders them; the tests compare
+//! with the tree's output.
+
+use super::number::push_json;
+use serde_json::Value;
+use std::fmt::Write;
+
+/// Pretty JSON (two-space indent) into a `String`.
+pub struct Json {
+    out: String,
+    /// Per open container: whether it has an item yet.
+    open: Vec<bool>,
+    /// A key was written; its value follows on the same line.
+    after_key: bool,
+}
+
+impl Default for Json {
+    fn default() -> Self {
+        Json::new()
+    }
+}
+
+impl Json {
+    pub fn new() -> Json {
+        Json {
+            out: String::new(),
+            open: Vec::with_capacity(8),
+            after_key: false,
+        }
+    }
+
+    /// The document with its final newline.
+    pub fn finish(mut self) -> String {
+        self.out.push('\n');
+        self.out
+    }
+
+    fn indent(&mut self, depth: usize) {
+        const SPACES: &str = "                                ";
+        let mut n = 2 * depth;
+        while n > 0 {
+            let k = n.min(SPACES.len());
+            self.out.push_str(&SPACES[..k]);
+            n -= k;
+        }
+    }
+
+    /// Before a value: the separator and indent of an array item.
+    fn item(&mut self) {
+        if self.after_key {
+            self.after_key = false;
+            return;
+        }
+        if let Some(has) = self.open.last_mut() {
+            let first = !*has;
+            *has = true;
+            self.out.push_str(if first { "\n" } else { ",\n" });
+            self.indent(self.open.len());
+        }
+    }
+
+    pub fn key(&mut self, k: &str) -> &mut Json {
+        self.item();
+        self.string_contents(k);
+        self.out.push_str(": ");
+        self.after_key = true;
+        self
+    }
+
+    fn begin(&mut self, c: char) {
+        self.item();
+        self.out.push(c);
+        self.open.push(false);
+    }
+
+    fn end(&mut self, c: char) {
+        if self.open.pop() == Some(true) {
+            self.out.push('\n');
+            self.indent(self.open.len());
+        }
+        self.out.push(c);
+    }
+
+    pub fn begin_object(&mut self) {
+        self.begin('{');
+    }
+    pub fn end_object(&mut self) {
+        self.end('}');
+    }
+    pub fn begin_array(&mut self) {
+        self.begin('[');
+    }
+    pub fn end_array(&mut self) {
+        self.end(']');
+    }
+
+    /// A float, rounded as every number of `solve` and `kc` output.
+    pub fn num(&mut self, v: f64) {
+        self.item();
+        push_json(&mut self.out, v);
+    }
+
+    pub fn int(&mut self, v: u64) {
+        self.item();
+        let _ = write!(self.out, "{v}");
+    }
+
+    pub fn bool(&mut self, v: bool) {
+        self.item();
+        self.out.push_str(if v { "true" } else { "false" });
+    }
+
+    pub fn str(&mut self, s: &str) {
+        self.item();
+        self.string_contents(s);
+    }
+
+    pub fn nums(&mut self, vs: &[f64]) {
+        self.begin_array();
+        for &v in vs {
+            self.num(v);
+        }
+        self.end_array();
+    }
+
+    /// A quoted string with serde_json's escapes.
+    fn string_contents(&mut self, s: &str) {
+        self.out.push('"');
+        let mut run = 0;
+        for (i, b) in s.bytes().enumerate() {
+            let esc = match b {
+                b'"' => "\\\"",
+                b'\\' => "\\\\",
+                b'\n' => "\\n",
+                b'\r' => "\\r",
+                b'\t' => "\\t",
+                0x08 => "\\b",
+                0x0c => "\\f",
+                0..=0x1f => "",
+                _ => continue,
+            };
+            self.out.push_str(&s[run..i]);
+            if esc.is_empty() {
+                const HEX: &[u8; 16] = b"0123456789abcdef";
+                self.out.push_str("\\u00");
+                self.out.push(HEX[usize::from(b >> 4)] as char);
+                self.out.push(HEX[usize::from(b & 0xf)] as char);
+            } else {
+                self.out.push_str(esc);
+            }
+            run = i + 1;
+        }
+        self.out.push_str(&s[run..]);
+        self.out.push('"');
+    }
+
+    /// A whole serde_json value (floats rounded, integers as they are), for
+    /// the small parts of a document kept as values (trim, failures).
+    pub fn value(&mut self, v: &Value) {
+        match v {
+            Value::Null => {
+                self.item();
+                self.out.push_str("null");
+            }
+            Value::Bool(b) => self.bool(*b),
+            Value::Number(n) => match n.as_f64() {
+                Some(f) if n.is_f64() => self.num(f),
+                _ => {
+                    // integers print as serde_json prints them (Display)
+                    self.item();
+                    let _ = write!(self.out, "{n}");
+                }
+            },
+            Value::String(s) => self.str(s),
+            Value::Array(a) => {
+                self.begin_array();
+                a.iter().for_each(|x| self.value(x));
+                self.end_array();
+            }
+            Value::Object(o) => {
+                self.begin_object();
+                for (k, x) in o {
+                    self.key(k);
+                    self.value(x);
+                }
+                self.end_object();
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::number::round_json;
+
+    #[test]
+    fn values_print_as_serde_json_prints_the_rounded_tree() {
+        let mut v = serde_json::json!({
+            "a": [0.30000000000000004, 5, -3, [], {}, [1.0, [2.5e-7, 1e21]]],
+            "b": {"c": -1e-13, "d": null, "e": true, "f": "q\"\\\n\t\u{1}\u{7f}é"},
+            "empty": {}, "g": 1234567.89049999
+        });
+        let mut w = Json::new();
+        w.value(&v);
+        round_json(&mut v);
+        assert_eq!(w.finish(), format!("{v:#}\n"));
+    }
+}

@@ -1,0 +1,413 @@
+//! The documents of `solve --format json` and `kc --format json`
+//! (`interfaces.md`), written directly with [`Json`]: keys in the sorted
+//! order serde_json's maps give, every float rounded once as it is printed.
+//! The tests check the bytes against the `serde_json::Value` tree these
+//! documents were built from before (serialised reports, `round_json`).
+
+use super::json::Json;
+use super::report::{CaseReport, FailedCase};
+use crate::kc::{KcRow, WheelQuantities};
+use serde_json::Value;
+
+fn wheel(w: &mut Json, q: &WheelQuantities) {
+    w.begin_object();
+    w.key("camber_deg").num(q.camber_deg);
+    w.key("center").nums(&q.center);
+    w.key("half_track_mm").num(q.half_track_mm);
+    w.key("spin_axis").nums(&q.spin_axis);
+    w.key("toe_deg").num(q.toe_deg);
+    w.key("travel_mm").num(q.travel_mm);
+    w.end_object();
+}
+
+/// One case of `solve` (the fields of [`CaseReport`], sorted).
+fn case(w: &mut Json, c: &CaseReport) {
+    w.begin_object();
+    w.key("bushings").begin_object();
+    for (name, b) in &c.bushings {
+        w.key(name).begin_object();
+        w.key("deformation").nums(&b.deformation);
+        w.key("force").nums(&b.force);
+        w.end_object();
+    }
+    w.end_object();
+    w.key("converged").bool(c.converged);
+    if !c.frictions.is_empty() {
+        w.key("frictions").begin_object();
+        for (name, f) in &c.frictions {
+            w.key(name).begin_object();
+            w.key("force").num(f.force);
+            w.key("slide").num(f.slide);
+            w.key("slip_offset").num(f.slip_offset);
+            w.key("state").str(f.state);
+            w.end_object();
+        }
+        w.end_object();
+    }
+    w.key("iterations").int(c.iterations as u64);
+    w.key("joints").begin_object();
+    for (name, j) in &c.joints {
+        w.key(name).begin_object();
+        w.key("force").nums(&j.force);
+        w.key("point").nums(&j.point);
+        w.key("torque").nums(&j.torque);
+        w.end_object();
+    }
+    w.end_object();
+    w.key("loads").begin_array();
+    for l in &c.loads {
+        w.begin_object();
+        w.key("force").nums(&l.force);
+        w.key("marker").str(&l.marker);
+        w.key("torque").nums(&l.torque);
+        w.end_object();
+    }
+    w.end_array();
+    w.key("name").str(&c.name);
+    w.key("parts").begin_object();
+    for (name, p) in &c.parts {
+        w.key(name).begin_object();
+        w.key("displacement").nums(&p.displacement);
+        w.key("position").nums(&p.position);
+        w.key("rotation").begin_array();
+        for row in &p.rotation {
+            w.nums(row);
+        }
+        w.end_array();
+        w.end_object();
+    }
+    w.end_object();
+    w.key("springs").begin_object();
+    for (name, s) in &c.springs {
+        w.key(name).begin_object();
+        w.key("force").num(s.force);
+        w.key("length").num(s.length);
+        w.end_object();
+    }
+    w.end_object();
+    w.key("step").int(c.step as u64);
+    w.key("substeps").int(c.substeps as u64);
+    w.key("wheels").begin_object();
+    for (name, q) in &c.wheels {
+        w.key(name);
+        wheel(w, q);
+    }
+    w.end_object();
+    w.end_object();
+}
+
+fn failed_case(w: &mut Json, f: &FailedCase) {
+    w.begin_object();
+    w.key("code").str(f.code);
+    w.key("converged").bool(f.converged);
+    w.key("elements").begin_array();
+    for e in &f.elements {
+        w.str(e);
+    }
+    w.end_array();
+    w.key("error").str(&f.error);
+    w.key("name").str(&f.name);
+    w.key("step").int(f.step as u64);
+    w.end_object();
+}
+
+/// `solve --format json`: the converged cases, then the failing one, the
+/// cases not tried after it, and the trim.
+pub fn solve(
+    model: &str,
+    load_set: &str,
+    cases: &[CaseReport],
+    failed: Option<&FailedCase>,
+    not_solved: &[(String, usize)],
+    trim: Option<&Value>,
+) -> String {
+    let mut w = Json::new();
+    w.begin_object();
+    w.key("cases").begin_array();
+    for c in cases {
+        case(&mut w, c);
+    }
+    if let Some(f) = failed {
+        failed_case(&mut w, f);
+    }
+    w.end_array();
+    w.key("load_set").str(load_set);
+    w.key("model").str(model);
+    // The cases after a failed one, never tried (`solve_table::cases`).
+    if !not_solved.is_empty() {
+        w.key("not_solved").begin_array();
+        for (name, step) in not_solved {
+            w.begin_object();
+            w.key("name").str(name);
+            w.key("step").int(*step as u64);
+            w.end_object();
+        }
+        w.end_array();
+    }
+    if let Some(t) = trim {
+        w.key("trim").value(t);
+    }
+    w.end_object();
+    w.finish()
+}
+
+/// One K&C row with the CSV's column names.
+fn kc_row(w: &mut Json, r: &KcRow) {
+    let q = &r.quantities;
+    w.begin_object();
+    w.key("camber_deg").num(q.camber_deg);
+    w.key("fx").num(r.force[0]);
+    w.key("fy").num(r.force[1]);
+    w.key("fz").num(r.force[2]);
+    w.key("half_track_change_mm").num(q.half_track_change_mm);
+    w.key("half_track_mm").num(q.half_track_mm);
+    w.key("loadcase").str(&r.loadcase);
+    w.key("mx").num(r.torque[0]);
+    w.key("my").num(r.torque[1]);
+    w.key("mz").num(r.torque[2]);
+    w.key("step").int(r.step as u64);
+    w.key("toe_deg").num(q.toe_deg);
+    w.key("travel_mm").num(q.travel_mm);
+    w.key("wc_x").num(q.center[0]);
+    w.key("wc_y").num(q.center[1]);
+    w.key("wc_z").num(q.center[2]);
+    w.key("wheel").str(&r.wheel);
+    w.end_object();
+}
+
+/// `kc --format json`: rows, the wheel-centre compliances (mm/kN, sorted by
+/// wheel, whose names are unique), the iterations per step, the failing step.
+pub fn kc(
+    model: &str,
+    sweep: &str,
+    rows: &[KcRow],
+    compliance: &[(String, [[f64; 3]; 3])],
+    iterations: &[usize],
+    failed: Option<&FailedCase>,
+) -> String {
+    let mut w = Json::new();
+    w.begin_object();
+    w.key("compliance_mm_per_kn").begin_object();
+    let mut sorted: Vec<&(String, [[f64; 3]; 3])> = compliance.iter().collect();
+    sorted.sort_by(|a, b| a.0.cmp(&b.0));
+    for (name, m) in sorted {
+        w.key(name).begin_array();
+        for row in m {
+            w.nums(row);
+        }
+        w.end_array();
+    }
+    w.end_object();
+    if let Some(f) = failed {
+        w.key("failed");
+        failed_case(&mut w, f);
+    }
+    w.key("iterations").begin_array();
+    for &i in iterations {
+        w.int(i as u64);
+    }
+    w.end_array();
+    w.key("model").str(model);
+    w.key("rows").begin_array();
+    for r in rows {
+        kc_row(&mut w, r);
+    }
+    w.end_array();
+    w.key("sweep").str(sweep);
+    w.end_object();
+    w.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    //! The direct documents against the serde_json tree they replace.
+    use super::*;
+    use crate::kc::kc_rows;
+    use crate::model::{LoadSetId, Model};
+    use crate::output::number::round_exact;
+    use crate::output::report::case_report;
+    use crate::statics::{Problem, State, compliance, path::run_set};
+    use serde_json::json;
+
+    /// The rounding of the tree before the direct writer: every float printed
+    /// and parsed back (`round_exact`), noise flushed to 0.
+    fn round_tree(v: &mut Value) {
+        match v {
+            Value::Number(n) if n.is_f64() => {
+                let x = n.as_f64().unwrap_or(f64::NAN);
+                let r = if x.abs() < crate::output::number::ZERO {
+                    0.0
+                } else {
+                    round_exact(x)
+                };
+                if let Some(r) = serde_json::Number::from_f64(r) {
+                    *n = r;
+                }
+            }
+            Value::Array(a) => a.iter_mut().for_each(round_tree),
+            Value::Object(o) => o.values_mut().for_each(round_tree),
+            _ => {}
+        }
+    }
+
+    fn model(name: &str, text: &str) -> Model {
+        let (_, c) = crate::check::check_str(name, text);
+        c.model.expect("the example checks")
+    }
+
+    /// The random McPherson path of issue 12 (fz 2000-7000 N, fx and fy within
+    /// ±2500 N, steps of at most 1500 N), from a fixed xorshift seed, as a loads CSV.
+    fn random_loads(n: usize) -> String {
+        let mut s = 0x2545_F491_4F6C_DD1Du64;
+        let mut uniform = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (lo, hi) = ([-2500.0, -2500.0, 2000.0], [2500.0, 2500.0, 7000.0]);
+        let mut x = [0.0, 0.0, 3000.0];
+        let mut out = String::from("step,fx,fy,fz\n");
+        for k in 0..n {
+            let d = [0; 3].map(|_| 2.0 * uniform() - 1.0);
+            let len = d.iter().map(|v| v * v).sum::<f64>().sqrt().max(1e-9);
+            // at most 1500 N per step, less after the clamp into the box
+            let r = 1500.0 * uniform();
+            for i in 0..3 {
+                let v = (x[i] + r * d[i] / len).clamp(lo[i], hi[i]);
+                x[i] = (v * 10.0).round() / 10.0;
+            }
+            out += &format!("{},{},{},{}\n", k + 1, x[0], x[1], x[2]);
+        }
+        out
+    }
+
+    /// `solve`'s document both ways.
+    fn both_solve(m: &Model, set: LoadSetId) -> (String, String) {
+        let p = Problem::new(m).expect("problem");
+        let run = run_set(&p, set, &State::design(m));
+        let ls = &m.load_sets[set.index()];
+        let reports: Vec<CaseReport> = run
+            .steps
+            .iter()
+            .zip(&ls.cases)
+            .enumerate()
+            .map(|(k, (eq, c))| case_report(m, &c.name, k + 1, eq))
+            .collect();
+        let failed = run.failure.as_ref().map(|e| {
+            let name = &ls.cases[e.case].name;
+            FailedCase::new(m, name, e.case + 1, &e.error)
+        });
+        let trim = json!({"param": "spring.k", "value": 12.345678901234, "iterations": 3});
+        let mut v = json!({ "model": m.name, "load_set": ls.name, "cases": reports });
+        if let (Some(f), Some(cases)) = (&failed, v["cases"].as_array_mut()) {
+            cases.push(json!(f));
+        }
+        v["trim"] = trim.clone();
+        round_tree(&mut v);
+        let direct = solve(
+            &m.name,
+            &ls.name,
+            &reports,
+            failed.as_ref(),
+            &[],
+            Some(&trim),
+        );
+        (direct, format!("{v:#}\n"))
+    }
+
+    #[test]
+    fn solve_documents_are_the_trees_bytes_on_every_example() {
+        let examples = [
+            (
+                "mcpherson.axle",
+                include_str!("../../examples/mcpherson.axle"),
+            ),
+            (
+                "mcpherson_friction.axle",
+                include_str!("../../examples/mcpherson_friction.axle"),
+            ),
+            (
+                "four_bar.axle",
+                include_str!("../../examples/four_bar.axle"),
+            ),
+            (
+                "slider_crank.axle",
+                include_str!("../../examples/slider_crank.axle"),
+            ),
+            (
+                "single_bushing.axle",
+                include_str!("../../examples/single_bushing.axle"),
+            ),
+            ("tour.axle", include_str!("../../examples/tour.axle")),
+        ];
+        let mut documents = 0;
+        for (name, text) in examples {
+            let m = model(name, text);
+            for k in 0..m.load_sets.len() {
+                let (direct, tree) = both_solve(&m, LoadSetId(k as u32));
+                assert_eq!(direct, tree, "{name}, set {}", m.load_sets[k].name);
+                documents += 1;
+            }
+        }
+        assert!(documents >= 6, "{documents} documents compared");
+    }
+
+    #[test]
+    fn solve_document_of_a_500_case_random_path_is_the_trees_bytes() {
+        let mut m = model(
+            "mcpherson.axle",
+            include_str!("../../examples/mcpherson.axle"),
+        );
+        let set = crate::data::loads::read(&random_loads(500), "random_500", &m).expect("csv");
+        assert_eq!(set.cases.len(), 500);
+        m.load_sets.push(set);
+        let (direct, tree) = both_solve(&m, LoadSetId(m.load_sets.len() as u32 - 1));
+        assert!(direct.len() > 1_000_000, "{} bytes", direct.len());
+        assert_eq!(direct, tree);
+    }
+
+    #[test]
+    fn kc_document_is_the_trees_bytes() {
+        let m = model(
+            "mcpherson.axle",
+            include_str!("../../examples/mcpherson.axle"),
+        );
+        let set = m.load_set_named("thesis_table_5_1").expect("set");
+        let p = Problem::new(&m).expect("problem");
+        let eqs = run_set(&p, set, &State::design(&m))
+            .into_result()
+            .expect("solves");
+        let states: Vec<&State> = eqs.iter().map(|e| &e.state).collect();
+        let rows = kc_rows(&m, set, &states);
+        let c = compliance(&p, &eqs[0], m.wheels[0].centre).expect("compliance");
+        let comp = vec![(
+            m.wheels[0].name.clone(),
+            [0, 1, 2].map(|i| [0, 1, 2].map(|j| c[i][j] * 1000.0)),
+        )];
+        let iterations: Vec<usize> = eqs.iter().map(|e| e.iterations).collect();
+        let ls = &m.load_sets[set.index()];
+        let failed = FailedCase {
+            name: "x".into(),
+            step: 14,
+            converged: false,
+            code: "E1001",
+            error: "no \"equilibrium\"".into(),
+            elements: vec!["bushing A".into()],
+        };
+        for f in [None, Some(&failed)] {
+            let cm: serde_json::Map<String, Value> =
+                comp.iter().map(|(w, m)| (w.clone(), json!(m))).collect();
+            let mut v = json!({
+                "model": m.name, "sweep": ls.name, "rows": crate::output::kc_table::json_rows(&rows),
+                "compliance_mm_per_kn": cm, "iterations": iterations,
+            });
+            if let Some(f) = f {
+                v["failed"] = json!(f);
+            }
+            round_tree(&mut v);
+            let direct = kc(&m.name, &ls.name, &rows, &comp, &iterations, f);
+            assert_eq!(direct, format!("{v:#}\n"));
+        }
+    }
+}

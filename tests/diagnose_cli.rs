@@ -1,0 +1,163 @@
+//! `axle diagnose` on the command line, as an engineer runs it: rig files
+//! written by `axle kc --format csv` from a truth model, the corrected file
+//! back through `-o` (checked again, the change commented), the report, and
+//! bad input as located diagnostics.
+
+mod common;
+use common::{axle, scratch};
+
+/// The K&C files of the McPherson with bushing B's x stiffness 775 N/mm.
+fn rig(stem: &str) -> Vec<String> {
+    let truth = include_str!("../examples/mcpherson.axle")
+        .replace("k (310, 2400, 180) N/mm", "k (775, 2400, 180) N/mm");
+    let t = scratch(&format!("{stem}_truth.axle"), &truth);
+    ["bump", "lateral"]
+        .iter()
+        .map(|s| {
+            let out = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+                .join(format!("{stem}_{s}.csv"))
+                .to_string_lossy()
+                .into_owned();
+            let (code, _, err) = axle(&["kc", &t, "--sweep", s, "--format", "csv", "-o", &out]);
+            assert_eq!(code, 0, "{err}");
+            out
+        })
+        .collect()
+}
+
+#[test]
+fn names_the_stiffer_bushing_and_writes_the_corrected_file() {
+    let kc = rig("cli");
+    let out = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli_fixed.axle");
+    let out = out.to_string_lossy().into_owned();
+    let report = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli_report");
+    let report = report.to_string_lossy().into_owned();
+    let (code, table, err) = axle(&[
+        "diagnose",
+        "examples/mcpherson.axle",
+        "--kc",
+        &kc[0],
+        &kc[1],
+        "--candidates",
+        "stiffness,spring_free_length",
+        "-o",
+        &out,
+        "--report",
+        &report,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        table.contains("1. Bushing `B` is, along its x axis, 2.50× stiffer than the model (775 [775, 775] N/mm against 310)"),
+        "{table}"
+    );
+    let fixed = std::fs::read_to_string(&out).expect("written");
+    assert!(
+        fixed.contains("// changed by diagnose: Bushing `B` is, along its x axis, 2.50× stiffer"),
+        "{fixed}"
+    );
+    assert!(fixed.contains("    k (775, 2400, 180) N/mm"), "{fixed}");
+    // Only that line and its comment differ from the engineer's file.
+    let before = include_str!("../examples/mcpherson.axle");
+    assert_eq!(fixed.lines().count(), before.lines().count() + 1);
+    let (code, _, err) = axle(&["check", &out]);
+    assert_eq!(code, 0, "{err}");
+    let html = std::fs::read_to_string(format!("{report}/diagnose.html")).expect("report");
+    assert!(html.starts_with("<!DOCTYPE html>") && html.contains("<svg"));
+    assert!(
+        !html.contains("<script") && !html.contains("<link") && !html.contains("src=\"http"),
+        "self-contained"
+    );
+}
+
+#[test]
+fn json_has_the_interface_keys() {
+    let kc = rig("json");
+    let (code, out, err) = axle(&[
+        "diagnose",
+        "examples/mcpherson.axle",
+        "--kc",
+        &kc[0],
+        &kc[1],
+        "--candidates",
+        "stiffness",
+        "--format",
+        "json",
+        "--noise",
+        "toe_deg=0.005",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("json");
+    assert_eq!(v["verdict"]["kind"], "stiffness");
+    assert_eq!(v["verdict"]["element"], "B");
+    assert!(v["verdict"]["gain"]["wc_x_mm"].as_f64().expect("gain") > 0.99);
+    assert_eq!(v["hypotheses"][0]["rank"], 1);
+    assert!(v["baseline"]["rms"]["toe_deg"].as_f64().is_some());
+    assert_eq!(v["effects"].as_array().map(Vec::len), Some(1));
+    assert_eq!(v["noise"]["toe_deg"]["source"], "given");
+    assert_eq!(v["noise"]["toe_deg"]["sigma"], 0.005);
+}
+
+#[test]
+fn bad_input_is_a_located_diagnostic_or_a_usage_error() {
+    let kc = rig("bad");
+    let text = std::fs::read_to_string(&kc[0]).expect("rig");
+    // A wheel the model does not have.
+    let wrong = scratch("bad_wheel.csv", &text.replacen(",left,", ",lef,", 1));
+    let (code, _, err) = axle(&["diagnose", "examples/mcpherson.axle", "--kc", &wrong]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("the model has no wheel `lef`") && err.contains("bad_wheel.csv:2:"),
+        "{err}"
+    );
+    assert!(err.contains("did you mean `left`?"), "{err}");
+    // Too few steps to hold any out.
+    let short: String = text.lines().take(3).map(|l| format!("{l}\n")).collect();
+    let short = scratch("bad_short.csv", &short);
+    let (code, _, err) = axle(&["diagnose", "examples/mcpherson.axle", "--kc", &short]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("error[E1304]"), "{err}");
+    // A column missing.
+    let nocol = scratch("bad_nocol.csv", &text.replace("toe_deg", "toe"));
+    let (code, _, err) = axle(&["diagnose", "examples/mcpherson.axle", "--kc", &nocol]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("no column `toe_deg`") && err.contains("bad_nocol.csv:1:"),
+        "{err}"
+    );
+    // Usage: a channel and a kind that do not exist, a file onto an input.
+    let (code, _, err) = axle(&[
+        "diagnose",
+        "examples/mcpherson.axle",
+        "--kc",
+        &kc[0],
+        "--noise",
+        "toe=0.1",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("no channel `toe`; channels: toe_deg, camber_deg"),
+        "{err}"
+    );
+    let (code, _, err) = axle(&[
+        "diagnose",
+        "examples/mcpherson.axle",
+        "--kc",
+        &kc[0],
+        "--candidates",
+        "bumpstop",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("no kind `bumpstop`; kinds: stiffness, joint_location, bump_stop"),
+        "{err}"
+    );
+    let (code, _, err) = axle(&[
+        "diagnose",
+        "examples/mcpherson.axle",
+        "--kc",
+        &kc[0],
+        "-o",
+        &kc[0],
+    ]);
+    assert_eq!(code, 2, "{err}");
+}
