@@ -260,7 +260,7 @@ fn random_500_json(b: Bencher) {
             .enumerate()
             .map(|(k, (eq, c))| axle::output::report::case_report(&m, &c.name, k + 1, eq))
             .collect();
-        axle::output::solve_json::solve(&m.name, &ls.name, &reports, None, None)
+        axle::output::solve_json::solve(&m.name, &ls.name, &reports, None, None, None)
     });
 }
 

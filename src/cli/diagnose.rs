@@ -7,7 +7,6 @@ use crate::diagnose::choose::DiagnoseError;
 use crate::diagnose::{Diagnosis, Kind, Options, diagnose, rig};
 use crate::diagnostic::{Diagnostic, render};
 use crate::model::{ElementId, Model};
-use crate::source::SourceMap;
 use std::path::PathBuf;
 
 #[derive(Copy, Clone, PartialEq, Eq, clap::ValueEnum)]
@@ -95,16 +94,13 @@ pub fn run(a: &Args) -> Exit {
         Ok(o) => o,
         Err(e) => return e,
     };
-    let mut sources = SourceMap::new();
-    let text = match super::read(&a.file) {
-        Ok(t) => t,
+    let super::input::Loaded {
+        mut sources,
+        model,
+        file: id,
+    } = match super::input::load_model(&a.file) {
+        Ok(l) => l,
         Err(e) => return e,
-    };
-    let id = sources.add(super::read::shown(&a.file), text);
-    let checked = crate::check::check_file(&mut sources, id);
-    render::to_stderr(&sources, &checked.problems.list);
-    let Some(model) = checked.model else {
-        return Exit::Input;
     };
     let mut paths = Vec::new();
     for p in &a.kc {

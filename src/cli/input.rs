@@ -11,6 +11,8 @@ use std::path::Path;
 pub struct Loaded {
     pub sources: SourceMap,
     pub model: Model,
+    /// The model's file in `sources` (for editing it back).
+    pub file: crate::span::FileId,
 }
 
 impl Loaded {
@@ -28,7 +30,11 @@ pub fn load_model(path: &Path) -> Result<Loaded, Exit> {
     let checked = crate::check::check_file(&mut sources, id);
     render::to_stderr(&sources, &checked.problems.list);
     match checked.model {
-        Some(model) if !checked.problems.has_errors() => Ok(Loaded { sources, model }),
+        Some(model) if !checked.problems.has_errors() => Ok(Loaded {
+            sources,
+            model,
+            file: id,
+        }),
         _ => Err(Exit::Input),
     }
 }

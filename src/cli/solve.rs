@@ -95,7 +95,7 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
             &ls.name,
             &reports,
             failed,
-            &not_solved,
+            failed.map(|_| not_solved.as_slice()),
             trim.as_ref().map(|t| &t.json),
         ),
         OutFormat::Table => {

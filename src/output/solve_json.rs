@@ -111,14 +111,13 @@ fn failed_case(w: &mut Json, f: &FailedCase) {
     w.end_object();
 }
 
-/// `solve --format json`: the converged cases, then the failing one, the
-/// cases not tried after it, and the trim.
+/// `solve --format json`: the converged cases, then the failing one, and the trim.
 pub fn solve(
     model: &str,
     load_set: &str,
     cases: &[CaseReport],
     failed: Option<&FailedCase>,
-    not_solved: &[(String, usize)],
+    not_solved: Option<&[(String, usize)]>,
     trim: Option<&Value>,
 ) -> String {
     let mut w = Json::new();
@@ -133,10 +132,9 @@ pub fn solve(
     w.end_array();
     w.key("load_set").str(load_set);
     w.key("model").str(model);
-    // The cases after a failed one, never tried (`solve_table::cases`).
-    if !not_solved.is_empty() {
+    if let Some(rest) = not_solved {
         w.key("not_solved").begin_array();
-        for (name, step) in not_solved {
+        for (name, step) in rest {
             w.begin_object();
             w.key("name").str(name);
             w.key("step").int(*step as u64);
@@ -310,7 +308,7 @@ mod tests {
             &ls.name,
             &reports,
             failed.as_ref(),
-            &[],
+            None,
             Some(&trim),
         );
         (direct, format!("{v:#}\n"))
