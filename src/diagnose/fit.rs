@@ -90,7 +90,23 @@ pub fn fit(
                 .zip(&cand.params)
                 .map(|((xi, s), p)| (xi + s).clamp(p.lo, p.hi))
                 .collect();
-            match evaluate(ctx, cand, &extended, &xn, &mut sim) {
+            // With friction the Jacobian costs a replay per parameter: a
+            // trial point gets only its residuals, an accepted one the rest.
+            let trial = if extended.frictions.is_empty() {
+                evaluate(ctx, cand, &extended, &xn, &mut sim)
+            } else {
+                match residuals(ctx, cand, &extended, &xn, &mut sim) {
+                    Ok((r, _, _)) if cost(&r) < c => evaluate(ctx, cand, &extended, &xn, &mut sim),
+                    Ok((r, replay, model)) => Ok(super::jacobian::Evaluation {
+                        r,
+                        j: DMatrix::zeros(0, 0),
+                        replay,
+                        model,
+                    }),
+                    Err(e) => Err(e),
+                }
+            };
+            match trial {
                 Ok(evn) if cost(&evn.r) < c => {
                     let cn = cost(&evn.r);
                     let moved = xn

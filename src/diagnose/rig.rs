@@ -123,3 +123,27 @@ fn wheel_of(model: &Model, file: FileId, text: &str) -> Result<WheelId, Diagnost
             .primary(Span::new(file, t.header.start, t.header.end), "header only")
     })
 }
+
+impl RigPath {
+    /// The component of the wheel load that varies most along the path (the
+    /// sweep's load): its name and its value (N) at every step.
+    pub fn main_load(&self) -> (&'static str, Vec<f64>) {
+        let names = ["fx", "fy", "fz"];
+        let series: Vec<Vec<f64>> = (0..3)
+            .map(|c| {
+                self.steps
+                    .iter()
+                    .map(|s| s.loads.iter().map(|l| l.force[c]).sum())
+                    .collect()
+            })
+            .collect();
+        let range = |v: &[f64]| {
+            v.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+                - v.iter().cloned().fold(f64::INFINITY, f64::min)
+        };
+        let k = (0..3)
+            .max_by(|&a, &b| range(&series[a]).total_cmp(&range(&series[b])))
+            .unwrap_or(2);
+        (names[k], series[k].clone())
+    }
+}

@@ -28,31 +28,11 @@ pub struct Pattern {
     pub sentence: String,
 }
 
-fn main_load(p: &RigPath) -> (&'static str, Vec<f64>) {
-    let names = ["fx", "fy", "fz"];
-    let s: Vec<Vec<f64>> = (0..3)
-        .map(|c| {
-            p.steps
-                .iter()
-                .map(|s| s.loads.iter().map(|l| l.force[c]).sum())
-                .collect()
-        })
-        .collect();
-    let range = |v: &[f64]| {
-        v.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
-            - v.iter().cloned().fold(f64::INFINITY, f64::min)
-    };
-    let k = (0..3)
-        .max_by(|&a, &b| range(&s[a]).total_cmp(&range(&s[b])))
-        .unwrap_or(2);
-    (names[k], s[k].clone())
-}
-
 /// The patterns of `replay` against the rig.
 pub fn patterns(rig: &[RigPath], replay: &Replay, noise: &Noise) -> Vec<Pattern> {
     let mut out = Vec::new();
     for (p, path) in rig.iter().enumerate() {
-        let (load, x) = main_load(path);
+        let (load, x) = path.main_load();
         let (lo, hi) = x
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {

@@ -19,28 +19,6 @@ fn esc(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// The component of the wheel load that varies most along a path (the
-/// sweep's load), with its name.
-fn main_load(p: &RigPath) -> (&'static str, Vec<f64>) {
-    let names = ["fx", "fy", "fz"];
-    let series: Vec<Vec<f64>> = (0..3)
-        .map(|c| {
-            p.steps
-                .iter()
-                .map(|s| s.loads.iter().map(|l| l.force[c]).sum())
-                .collect()
-        })
-        .collect();
-    let range = |v: &Vec<f64>| {
-        v.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
-            - v.iter().cloned().fold(f64::INFINITY, f64::min)
-    };
-    let k = (0..3)
-        .max_by(|&a, &b| range(&series[a]).total_cmp(&range(&series[b])))
-        .unwrap_or(2);
-    (names[k], series[k].clone())
-}
-
 const W: f64 = 300.0;
 const H: f64 = 190.0;
 const L: f64 = 52.0;
@@ -91,7 +69,7 @@ fn polyline(o: &mut String, f: &Frame, x: &[f64], y: &[f64], colour: &str, width
 }
 
 fn plot(p: &RigPath, c: Channel, nominal: &[f64], extended: &[f64]) -> String {
-    let (load, x) = main_load(p);
+    let (load, x) = p.main_load();
     let measured: Vec<f64> = p.steps.iter().map(|s| s.measured[c.index()]).collect();
     let all = measured.iter().chain(nominal).chain(extended).cloned();
     let (mut y0, mut y1) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
