@@ -18,10 +18,10 @@ use super::fit::{FitFailure, Fitted, fit};
 use super::holdout::{Subset, count};
 use super::kind::Kind;
 use super::noise::{self, Noise};
-use super::replay::{Replay, ReplayError, designs, replay_states};
+use super::replay::{Replay, ReplayError, channels_of, designs, replay_states};
 use super::rig::RigPath;
 use super::screen::{Screened, screen, screen_at_nominal};
-use super::{Context, Options, channel};
+use super::{Context, Options};
 use crate::model::{ElementId, Model};
 use crate::statics::State;
 use crate::statics::path::Simulator;
@@ -233,6 +233,8 @@ fn rounded(c: &Candidate, f: &Fitted) -> Vec<f64> {
 }
 
 struct Round {
+    /// The summary of the model the round started from.
+    before: Summary,
     hypotheses: Vec<Hypothesis>,
     skipped: Vec<Skipped>,
     screened: usize,
@@ -341,6 +343,7 @@ fn round(
     }
     hypotheses.sort_by(|a, b| b.score.total_cmp(&a.score));
     Round {
+        before,
         hypotheses,
         skipped,
         screened: cands.len(),
@@ -424,7 +427,7 @@ pub fn diagnose(
             first = Some(r.hypotheses);
         }
         let Some(best) = best else { break };
-        let before = summary(&ctx, &cur_replay);
+        let before = r.before;
         let Ok(st) = replay_states(&best.model, rig, &mut sim) else {
             break;
         };
@@ -454,27 +457,6 @@ pub fn diagnose(
         screen_time,
         fit_time,
     })
-}
-
-/// The channels of solved states.
-fn channels_of(
-    model: &Model,
-    rig: &[RigPath],
-    designs: &[channel::Design],
-    states: &[Vec<State>],
-) -> Replay {
-    Replay {
-        paths: states
-            .iter()
-            .zip(rig)
-            .zip(designs)
-            .map(|((st, p), d)| {
-                st.iter()
-                    .map(|s| channel::of_state(model, d, p.wheel, s))
-                    .collect()
-            })
-            .collect(),
-    }
 }
 
 impl Diagnosis {

@@ -43,19 +43,33 @@ pub fn replay(
     designs: &[Design],
     sim: &mut Simulator,
 ) -> Result<Replay, ReplayError> {
-    Ok(Replay {
-        paths: replay_states(model, rig, sim)?
+    Ok(channels_of(
+        model,
+        rig,
+        designs,
+        &replay_states(model, rig, sim)?,
+    ))
+}
+
+/// The channels of solved states (one list per path).
+pub fn channels_of(
+    model: &Model,
+    rig: &[RigPath],
+    designs: &[Design],
+    states: &[Vec<State>],
+) -> Replay {
+    Replay {
+        paths: states
             .iter()
             .zip(rig)
             .zip(designs)
-            .map(|((states, p), d)| {
-                states
-                    .iter()
+            .map(|((st, p), d)| {
+                st.iter()
                     .map(|s| channel::of_state(model, d, p.wheel, s))
                     .collect()
             })
             .collect(),
-    })
+    }
 }
 
 /// The solved states of every step of every path.
