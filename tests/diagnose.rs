@@ -9,7 +9,11 @@
 
 use axle::diagnose::channel::Channel;
 use axle::diagnose::rig::{RigPath, read};
-use axle::diagnose::{Diagnosis, Kind, Options, diagnose, words};
+use axle::diagnose::noise::Source;
+use axle::diagnose::{Diagnosis, Kind, Options, diagnose, landmarks, words};
+use axle::measure::inputs::{LandmarkFile, LandmarkFormat, Remarks};
+use axle::measure::synthetic::landmarks_csv;
+use axle::source::SourceMap;
 use axle::edit::{Edit, Why, apply};
 use axle::measure::synthetic::kc_csv;
 use axle::model::address::Address;
@@ -36,6 +40,31 @@ fn rig(nominal: &Model, truth: &Model, seed: u64) -> Vec<RigPath> {
             read(nominal, FileId(k as u32), name, &csv).expect("rig data read")
         })
         .collect()
+}
+
+/// The same rig data with a landmark file per sweep (σ = 0.05 mm per
+/// coordinate), measured at every step, joined to the paths as `--landmarks`.
+fn rig_with_landmarks(nominal: &Model, truth: &Model, seed: u64) -> Vec<RigPath> {
+    let mut paths = rig(nominal, truth, seed);
+    let mut sources = SourceMap::new();
+    let files: Vec<LandmarkFile> = ["bump", "lateral", "longitudinal"]
+        .iter()
+        .enumerate()
+        .map(|(k, name)| {
+            let set = truth.load_set_named(name).expect("sweep");
+            let csv = landmarks_csv(truth, set, 0.05, seed * 10 + 5 + k as u64)
+                .expect("truth solves");
+            LandmarkFile {
+                id: sources.add(format!("{name}_landmarks.csv"), csv),
+                format: LandmarkFormat::Csv,
+            }
+        })
+        .collect();
+    let mut remarks = Remarks::default();
+    landmarks::attach(&sources, nominal, &mut paths, &files, &mut remarks)
+        .expect("landmarks join the K&C steps");
+    assert!(remarks.warnings.is_empty(), "{:?}", remarks.warnings);
+    paths
 }
 
 fn set(m: &mut Model, address: &str, value: f64) {
@@ -68,7 +97,10 @@ fn show(d: &Diagnosis) {
             s.why
         );
     }
-    eprintln!("screened {} fitted {}", d.screened, d.fitted);
+    eprintln!(
+        "screened {} fitted {} in {:?} screening, {:?} fitting",
+        d.screened, d.fitted, d.screen_time, d.fit_time
+    );
 }
 
 /// The diagnosis of `nominal` against rig data of `truth`.
@@ -175,6 +207,30 @@ fn a_stiffer_bushing() {
         "B",
         &[("B.k_x", 775.0)],
         &[WcX, Travel],
+    );
+}
+
+/// With landmarks as well: the landmark channel joins the fit, its noise is
+/// estimated from the pose fits' residuals (the truth is 0.05 mm), and the
+/// extended model cuts its held-out error too.
+#[test]
+fn a_stiffer_bushing_seen_in_the_landmarks_too() {
+    let nominal = mcpherson();
+    let mut truth = nominal.clone();
+    set(&mut truth, "B.k_x", 775.0);
+    let r = rig_with_landmarks(&nominal, &truth, 3);
+    let d = diagnose(&nominal, &r, &Options::default()).expect("diagnosis");
+    show(&d);
+    let n = d.noise[Landmarks.index()];
+    assert!(matches!(n.source, Source::Estimated(_)), "{n:?}");
+    assert!((n.sigma / 0.05 - 1.0).abs() < 0.1, "landmark noise {n:?}");
+    assert!(d.channels().contains(&Landmarks));
+    assert_found(
+        &d,
+        Kind::Stiffness,
+        "B",
+        &[("B.k_x", 775.0)],
+        &[WcX, Travel, Landmarks],
     );
 }
 

@@ -1,10 +1,10 @@
-//! `axle diagnose FILE --kc CSV... [--noise CHANNEL=SIGMA...] [--candidates KIND,...]
+//! `axle diagnose FILE --kc CSV... [--landmarks CSV|IGES...] [--noise CHANNEL=SIGMA...] [--candidates KIND,...]
 //! [--format table|json] [-o EXTENDED.axle] [--report DIR]` (`docs/diagnose.md`).
 
 use super::Exit;
 use crate::diagnose::channel::Channel;
 use crate::diagnose::choose::DiagnoseError;
-use crate::diagnose::{Diagnosis, Kind, Options, diagnose, rig};
+use crate::diagnose::{Diagnosis, Kind, Options, diagnose, landmarks, rig};
 use crate::diagnostic::{Diagnostic, render};
 use crate::model::{ElementId, Model};
 use std::path::PathBuf;
@@ -23,6 +23,11 @@ pub struct Args {
     /// measured (step, fx, fy, fz, wc_x, wc_y, wc_z, toe_deg, camber_deg).
     #[arg(long, required = true, num_args = 1..)]
     pub kc: Vec<PathBuf>,
+    /// Landmark data measured on the same run (step, part, landmark, x, y, z;
+    /// or IGES, one state per file): one CSV per --kc file, in the same order,
+    /// or any number with a single --kc file.
+    #[arg(long, num_args = 1..)]
+    pub landmarks: Vec<PathBuf>,
     /// The noise of a channel, e.g. `toe_deg=0.005` (channel units); the
     /// others are estimated from the data.
     #[arg(long, value_name = "CHANNEL=SIGMA")]
@@ -120,6 +125,20 @@ pub fn run(a: &Args) -> Exit {
                 return Exit::Input;
             }
         }
+    }
+    let files = match super::locate::landmark_files(&mut sources, &a.landmarks) {
+        Ok(f) => f,
+        Err((d, code)) => {
+            render::to_stderr(&sources, &[*d]);
+            return code;
+        }
+    };
+    let mut remarks = crate::measure::inputs::Remarks::default();
+    let joined = landmarks::attach(&sources, &model, &mut paths, &files, &mut remarks);
+    super::locate::render_remarks(&sources, &remarks);
+    if let Err(d) = joined {
+        render::to_stderr(&sources, &[d]);
+        return Exit::Input;
     }
     let d = match diagnose(&model, &paths, &opts) {
         Ok(d) => d,

@@ -8,6 +8,10 @@
 //! centre normal to the spin axis, straight down within it). Measured and
 //! simulated values are then the same function of the same quantities, and a
 //! residual is never a difference of definitions.
+//!
+//! With landmark data (`--landmarks`), `landmarks_mm` compares every measured
+//! landmark with the same point of its part at the simulated state, per
+//! coordinate in the model frame ([`super::landmarks`]).
 
 use crate::geom::Vec3;
 use crate::identify::measured::KcObservation;
@@ -23,18 +27,34 @@ pub enum Channel {
     Travel,
     HalfTrack,
     WcX,
+    /// Landmark positions (mm per coordinate), when measured.
+    Landmarks,
 }
 
-/// The channels of one wheel at one step, in [`Channel::ALL`] order.
+/// The K&C channels of one wheel at one step, in [`Channel::KC`] order.
 pub type Measured = [f64; 5];
 
+/// One figure per channel (an RMS, a gain, a noise), in [`Channel::ALL`] order.
+pub type PerChannel = [f64; 6];
+
 impl Channel {
-    pub const ALL: [Channel; 5] = [
+    /// The channels a K&C rig reports for one wheel.
+    pub const KC: [Channel; 5] = [
         Channel::Toe,
         Channel::Camber,
         Channel::Travel,
         Channel::HalfTrack,
         Channel::WcX,
+    ];
+
+    /// Every channel: the K&C channels, then the landmarks.
+    pub const ALL: [Channel; 6] = [
+        Channel::Toe,
+        Channel::Camber,
+        Channel::Travel,
+        Channel::HalfTrack,
+        Channel::WcX,
+        Channel::Landmarks,
     ];
 
     /// The name in tables and JSON.
@@ -45,6 +65,7 @@ impl Channel {
             Channel::Travel => "travel_mm",
             Channel::HalfTrack => "half_track_mm",
             Channel::WcX => "wc_x_mm",
+            Channel::Landmarks => "landmarks_mm",
         }
     }
 
@@ -56,6 +77,7 @@ impl Channel {
             Channel::Travel => "wheel travel",
             Channel::HalfTrack => "half-track change",
             Channel::WcX => "wheel-centre x",
+            Channel::Landmarks => "landmark position",
         }
     }
 

@@ -13,12 +13,13 @@
 //! library's, so a run is the same on any number of cores.
 
 use super::candidate::{CandParam, Candidate, Ranges, Scale, library};
-use super::channel::Measured;
+use super::channel::PerChannel;
 use super::fit::{FitFailure, Fitted, fit};
 use super::holdout::{Subset, count};
 use super::kind::Kind;
 use super::noise::{self, Noise};
-use super::replay::{Replay, ReplayError, channels_of, designs, replay_states};
+use super::channel::Channel;
+use super::replay::{Replay, ReplayError, channels_of, designs, replay_states, residual_count};
 use super::rig::RigPath;
 use super::screen::{Screened, screen, screen_at_nominal};
 use super::{Context, Options};
@@ -32,8 +33,8 @@ use rayon::prelude::*;
 #[derive(Debug, Clone, PartialEq)]
 pub struct Summary {
     /// RMS per channel over every step, and over the held-out steps.
-    pub rms: Measured,
-    pub rms_held_out: Measured,
+    pub rms: PerChannel,
+    pub rms_held_out: PerChannel,
     /// Noise-weighted χ² of the training and of the held-out steps.
     pub train_chi2: f64,
     pub held_out_chi2: f64,
@@ -81,7 +82,7 @@ pub struct Hypothesis {
 #[derive(Debug, Clone)]
 pub struct Effect {
     pub hypothesis: Hypothesis,
-    pub gain: Measured,
+    pub gain: PerChannel,
     pub before: Summary,
 }
 
@@ -108,7 +109,8 @@ pub struct Diagnosis {
     /// The model with every effect added, and its replay.
     pub model: Model,
     pub replay: Replay,
-    /// Held-out and training residual counts (channels × steps).
+    /// Held-out and training residual counts (channels × steps, and three
+    /// per landmark).
     pub held_out: usize,
     pub training: usize,
     /// Candidates screened and fitted over all rounds.
@@ -358,12 +360,14 @@ fn round(
 /// within their noise is not a finding.
 fn visible(ctx: &Context, before: &Summary, after: &Summary) -> bool {
     let g = gain(before, after);
-    (0..5).any(|c| before.rms_held_out[c] > 2.0 * ctx.noise[c].sigma && g[c] >= 0.1)
+    (0..6).any(|c| {
+        ctx.noise[c].present() && before.rms_held_out[c] > 2.0 * ctx.noise[c].sigma && g[c] >= 0.1
+    })
 }
 
-fn gain(before: &Summary, after: &Summary) -> Measured {
-    let mut g = [0.0; 5];
-    for c in 0..5 {
+fn gain(before: &Summary, after: &Summary) -> PerChannel {
+    let mut g = [0.0; 6];
+    for c in 0..6 {
         let b = before.rms_held_out[c];
         g[c] = if b > 0.0 {
             1.0 - after.rms_held_out[c] / b
@@ -381,17 +385,13 @@ pub fn diagnose(
     opts: &Options,
 ) -> Result<Diagnosis, DiagnoseError> {
     let steps: usize = rig.iter().map(|p| p.steps.len()).sum();
-    let held: usize = rig
-        .iter()
-        .map(|p| count(Subset::HeldOut, p.steps.len()))
-        .sum::<usize>()
-        * 5;
-    let training: usize = rig
+    let held = residual_count(rig, Subset::HeldOut);
+    let training = residual_count(rig, Subset::Training);
+    let training_steps: usize = rig
         .iter()
         .map(|p| count(Subset::Training, p.steps.len()))
-        .sum::<usize>()
-        * 5;
-    if held == 0 || training < 5 * 4 {
+        .sum();
+    if held == 0 || training_steps < 4 {
         return Err(DiagnoseError::TooFewSteps { steps, needed: 6 });
     }
     let noise = noise::noise(rig, &opts.noise);
@@ -462,10 +462,18 @@ pub fn diagnose(
 impl Diagnosis {
     /// The gain of every effect together, per channel, on the held-out
     /// steps, against the nominal model.
-    pub fn total_gain(&self) -> Measured {
+    pub fn total_gain(&self) -> PerChannel {
         match self.effects.last() {
             Some(e) => gain(&self.baseline, &e.hypothesis.summary),
-            None => [0.0; 5],
+            None => [0.0; 6],
         }
+    }
+
+    /// The channels measured (the landmarks only when given).
+    pub fn channels(&self) -> Vec<Channel> {
+        Channel::ALL
+            .into_iter()
+            .filter(|c| self.noise[c.index()].present())
+            .collect()
     }
 }

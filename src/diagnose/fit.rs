@@ -10,7 +10,7 @@
 use super::Context;
 use super::candidate::Candidate;
 use super::jacobian::{evaluate, residuals};
-use super::replay::{Replay, ReplayError};
+use super::replay::{Replay, ReplayError, search_simulator};
 use crate::model::Model;
 use crate::statics::path::Simulator;
 use nalgebra::{DMatrix, DVector};
@@ -65,7 +65,7 @@ pub fn fit(
     let extended = cand
         .extend(base)
         .map_err(|e| FitFailure::Edit(e.to_string()))?;
-    let mut sim = Simulator::new();
+    let mut sim = search_simulator();
     if cand.params.len() == 1 && !extended.frictions.is_empty() {
         return fit_line(ctx, cand, &extended, start[0], &mut sim);
     }
@@ -79,7 +79,14 @@ pub fn fit(
         let rv = DVector::from_column_slice(&ev.r);
         let h = ev.j.transpose() * &ev.j;
         let g = ev.j.transpose() * rv;
+        let pinned = pinned(&x, &g, cand);
+        if pinned.iter().all(|&p| p) {
+            // Every parameter on a bound the data push against: no move left.
+            break;
+        }
+        let (h, g) = free(&h, &g, &pinned);
         let mut improved = false;
+        let mut tried: Option<Vec<f64>> = None;
         while mu < 1e10 {
             let Some(step) = damped_step(&h, &g, mu) else {
                 break;
@@ -90,6 +97,12 @@ pub fn fit(
                 .zip(&cand.params)
                 .map(|((xi, s), p)| (xi + s).clamp(p.lo, p.hi))
                 .collect();
+            // A larger damping that clamps to the same point tries nothing new.
+            if xn == x || tried.as_ref() == Some(&xn) {
+                mu *= 4.0;
+                continue;
+            }
+            tried = Some(xn.clone());
             // With friction the Jacobian costs a replay per parameter: a
             // trial point gets only its residuals, an accepted one the rest.
             let trial = if extended.frictions.is_empty() {
@@ -115,8 +128,11 @@ pub fn fit(
                         .map(|(a, b)| (a - b).abs())
                         .fold(0.0, f64::max);
                     // Converged for every purpose of the intervals: χ² moved
-                    // by less than 0.01 (plus rounding), or the point by 1e-5.
-                    let small = c - cn < 0.01 + 1e-9 * c || moved < 1e-5;
+                    // by less than 0.01 in units of the misfit the intervals
+                    // are scaled by (a model far from the data crawls by
+                    // steps that change nothing), or the point by 1e-5.
+                    let misfit = (c / (ev.r.len() as f64 - x.len() as f64).max(1.0)).max(1.0);
+                    let small = c - cn < 0.01 * misfit + 1e-9 * c || moved < 1e-5;
                     x = xn;
                     ev = evn;
                     c = cn;
@@ -222,6 +238,31 @@ fn fit_line(
         model,
         replay,
     })
+}
+
+/// The parameters on a bound whose descent direction `−g` points out of it:
+/// held there for this step (a projected Levenberg–Marquardt step), so the
+/// others still move and a clamped trial is not the same point again.
+fn pinned(x: &[f64], g: &DVector<f64>, cand: &Candidate) -> Vec<bool> {
+    x.iter()
+        .zip(&cand.params)
+        .enumerate()
+        .map(|(i, (&xi, p))| (xi <= p.lo && g[i] > 0.0) || (xi >= p.hi && g[i] < 0.0))
+        .collect()
+}
+
+/// `H` and `g` with the pinned parameters' rows and columns decoupled (unit
+/// diagonal, zero gradient: their step is zero).
+fn free(h: &DMatrix<f64>, g: &DVector<f64>, pinned: &[bool]) -> (DMatrix<f64>, DVector<f64>) {
+    let (mut h, mut g) = (h.clone(), g.clone());
+    let top = h.diagonal().amax().max(1e-300);
+    for (i, _) in pinned.iter().enumerate().filter(|(_, p)| **p) {
+        h.row_mut(i).fill(0.0);
+        h.column_mut(i).fill(0.0);
+        h[(i, i)] = top;
+        g[i] = 0.0;
+    }
+    (h, g)
 }
 
 /// The Levenberg–Marquardt step `(H + μ diag H) δ = −g`. A candidate has at

@@ -10,11 +10,12 @@
 
 use super::Context;
 use super::candidate::{CandParam, Candidate, Scale};
-use super::channel::{self, Measured};
+use super::channel::{self, Channel};
+use super::landmarks::simulated;
+use super::rig::RigStep;
 use super::holdout::Subset;
-use super::noise::weighted;
-use super::replay::{Replay, ReplayError, replay};
-use crate::model::{ElementId, Model, PointLoad};
+use super::replay::{Replay, ReplayError, replay, step_residuals};
+use crate::model::{ElementId, Model, PointLoad, WheelId};
 use crate::statics::path::Simulator;
 use crate::statics::{CaseSensitivity, Parameter, Problem, State};
 use nalgebra::{DMatrix, DVector};
@@ -85,6 +86,7 @@ pub fn evaluate(
     })?;
     let start = State::design(&m);
     let mut sims = Vec::with_capacity(ctx.rig.len());
+    let mut landmarks = Vec::with_capacity(ctx.rig.len());
     let mut rows: Vec<DVector<f64>> = Vec::new();
     let mut r = Vec::new();
     for (p, path) in ctx.rig.iter().enumerate() {
@@ -101,26 +103,29 @@ pub fn evaluate(
         let sens = sens.map_err(fail)?;
         let d = &ctx.designs[p];
         let mut chans = Vec::with_capacity(run.steps.len());
+        let mut marks = Vec::with_capacity(run.steps.len());
         for (k, (eq, s)) in run.steps.iter().zip(&sens).enumerate() {
+            let step = &path.steps[k];
             let now = channel::of_state(&m, d, path.wheel, &eq.state);
+            let pts = simulated(&m, &eq.state, &step.landmarks);
+            if Subset::Training.contains(p, k) {
+                step_residuals(ctx.noise, step, &now, &pts, &mut r);
+                let dv = value_derivatives(&problem, &m, d, path.wheel, step, &eq.state, s);
+                let sigma = |row: usize| match row {
+                    c @ 0..5 => ctx.noise[c].sigma,
+                    _ => ctx.noise[Channel::Landmarks.index()].sigma,
+                };
+                for row in 0..dv.nrows() {
+                    rows.push(DVector::from_fn(x.len(), |i, _| {
+                        dv[(row, i)] * dvalue(cand.params[i].scale, x[i]) / sigma(row)
+                    }));
+                }
+            }
             chans.push(now);
-            if !Subset::Training.contains(p, k) {
-                continue;
-            }
-            let mut res = now;
-            for (c, v) in res.iter_mut().enumerate() {
-                *v -= path.steps[k].measured[c];
-            }
-            r.extend_from_slice(&weighted(ctx.noise, &res));
-            let dch = channel_derivatives(&problem, &m, d, path.wheel, &eq.state, s);
-            for c in 0..5 {
-                let row = DVector::from_fn(x.len(), |i, _| {
-                    dch[(c, i)] * dvalue(cand.params[i].scale, x[i]) / ctx.noise[c].sigma
-                });
-                rows.push(row);
-            }
+            marks.push(pts);
         }
         sims.push(chans);
+        landmarks.push(marks);
     }
     let mut j = DMatrix::zeros(rows.len(), x.len());
     for (k, row) in rows.iter().enumerate() {
@@ -129,24 +134,44 @@ pub fn evaluate(
     Ok(Evaluation {
         r,
         j,
-        replay: Replay { paths: sims },
+        replay: Replay {
+            paths: sims,
+            landmarks,
+        },
         model: m,
     })
 }
 
-/// `d channel / d parameter` at a solved state (5 × parameters): central
-/// differences of the channels along each parameter's state derivative
-/// (no solve: the state moves along its tangent).
-fn channel_derivatives(
+/// The K&C channels and the landmark coordinates of one step, in the order
+/// of [`step_residuals`].
+fn values(
+    model: &Model,
+    d: &channel::Design,
+    wheel: WheelId,
+    step: &RigStep,
+    state: &State,
+) -> Vec<f64> {
+    let mut v = channel::of_state(model, d, wheel, state).to_vec();
+    for x in simulated(model, state, &step.landmarks) {
+        v.extend(x.iter());
+    }
+    v
+}
+
+/// `d value / d parameter` at a solved state ((5 + 3 landmarks) ×
+/// parameters): central differences of the values along each parameter's
+/// state derivative (no solve: the state moves along its tangent).
+fn value_derivatives(
     problem: &Problem,
     model: &Model,
     d: &channel::Design,
-    wheel: crate::model::WheelId,
+    wheel: WheelId,
+    step: &RigStep,
     state: &State,
     s: &CaseSensitivity,
 ) -> DMatrix<f64> {
     let n = s.params();
-    let mut out = DMatrix::zeros(5, n);
+    let mut out = DMatrix::zeros(5 + 3 * step.landmarks.len(), n);
     for j in 0..n {
         let col = s.dq.column(j);
         let amax = col.amax();
@@ -158,12 +183,12 @@ fn channel_derivatives(
         let (mut sp, mut sm) = (state.clone(), state.clone());
         sp.apply(&problem.layout, &dq);
         sm.apply(&problem.layout, &(-dq));
-        let (a, b): (Measured, Measured) = (
-            channel::of_state(model, d, wheel, &sp),
-            channel::of_state(model, d, wheel, &sm),
+        let (a, b) = (
+            values(model, d, wheel, step, &sp),
+            values(model, d, wheel, step, &sm),
         );
-        for c in 0..5 {
-            out[(c, j)] = (a[c] - b[c]) / (2.0 * h);
+        for (row, (a, b)) in a.iter().zip(&b).enumerate() {
+            out[(row, j)] = (a - b) / (2.0 * h);
         }
     }
     out

@@ -21,6 +21,7 @@ pub mod fit;
 pub mod holdout;
 pub mod jacobian;
 pub mod kind;
+pub mod landmarks;
 pub mod noise;
 pub mod replay;
 pub mod rig;

@@ -6,6 +6,9 @@
 //! (robust to the few kinks where a path turns back or a stop engages),
 //! scaled to a normal deviation: `σ = 1.4826 · median|Δ²y| / √6`.
 //!
+//! Landmarks are measured at a few states, not in even steps: their noise
+//! is what the rigid pose fits of the parts leave (`super::landmarks`).
+//!
 //! A floor keeps a noise-free data set (a simulation) from giving a zero
 //! weight scale: 1e-4 deg and 1e-3 mm, below any rig's resolution.
 
@@ -20,6 +23,8 @@ pub enum Source {
     Estimated(usize),
     /// The estimate was below the floor (or there were fewer than 3 steps).
     Floor,
+    /// Not measured (no landmark data): the channel takes no part.
+    Absent,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -29,7 +34,7 @@ pub struct ChannelNoise {
 }
 
 /// The noise of every channel, in [`Channel::ALL`] order.
-pub type Noise = [ChannelNoise; 5];
+pub type Noise = [ChannelNoise; 6];
 
 pub fn floor(c: Channel) -> f64 {
     match c.unit() {
@@ -47,12 +52,47 @@ pub fn noise(paths: &[RigPath], given: &[(Channel, f64)]) -> Noise {
                 source: Source::Given,
             };
         }
+        if c == Channel::Landmarks {
+            return landmark_noise(paths, floor(c));
+        }
         let series: Vec<Vec<f64>> = paths
             .iter()
             .map(|p| p.steps.iter().map(|s| s.measured[c.index()]).collect())
             .collect();
         estimate(&series, floor(c))
     })
+}
+
+/// The landmark noise from the pose fits' residuals; absent without landmarks.
+fn landmark_noise(paths: &[RigPath], floor: f64) -> ChannelNoise {
+    if !paths.iter().any(RigPath::has_landmarks) {
+        return ChannelNoise {
+            sigma: 1.0,
+            source: Source::Absent,
+        };
+    }
+    let (sum_sq, dof) = paths
+        .iter()
+        .fold((0.0, 0), |(s, d), p| (s + p.pose_fit.sum_sq, d + p.pose_fit.dof));
+    let sigma = if dof > 0 { (sum_sq / dof as f64).sqrt() } else { 0.0 };
+    if sigma < floor || dof == 0 {
+        ChannelNoise {
+            sigma: floor,
+            source: Source::Floor,
+        }
+    } else {
+        ChannelNoise {
+            sigma,
+            source: Source::Estimated(dof),
+        }
+    }
+}
+
+impl ChannelNoise {
+    /// Whether the channel was measured at all.
+    pub fn present(&self) -> bool {
+        self.source != Source::Absent
+    }
 }
 
 /// The estimate from several series of one channel.
@@ -89,7 +129,7 @@ pub fn estimate(series: &[Vec<f64>], floor: f64) -> ChannelNoise {
     }
 }
 
-/// Channel values weighted by their noise.
+/// K&C channel values weighted by their noise.
 pub fn weighted(noise: &Noise, residual: &Measured) -> Measured {
     let mut out = *residual;
     for (k, v) in out.iter_mut().enumerate() {

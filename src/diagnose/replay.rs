@@ -5,10 +5,12 @@
 //! and from them the noise-weighted residuals of a step subset
 //! ([`super::holdout`]).
 
-use super::channel::{self, Design, Measured};
+use super::channel::{self, Channel, Design, Measured, PerChannel};
+use super::landmarks::simulated;
 use super::holdout::Subset;
 use super::noise::{Noise, weighted};
-use super::rig::RigPath;
+use super::rig::{RigPath, RigStep};
+use crate::geom::Vec3;
 use crate::model::Model;
 use crate::statics::path::Simulator;
 use crate::statics::{Problem, State, StaticsError};
@@ -17,6 +19,9 @@ use crate::statics::{Problem, State, StaticsError};
 #[derive(Debug, Clone, PartialEq)]
 pub struct Replay {
     pub paths: Vec<Vec<Measured>>,
+    /// The simulated positions of the landmarks measured at each step (in
+    /// the order of [`super::rig::RigStep::landmarks`]).
+    pub landmarks: Vec<Vec<Vec<Vec3>>>,
 }
 
 /// Where a replay failed: the path, the step in it, and why.
@@ -25,6 +30,16 @@ pub struct ReplayError {
     pub path: usize,
     pub step: usize,
     pub error: StaticsError,
+}
+
+/// The simulator of a search (screening, fitting): a replay that needs more
+/// than three load sub-step attempts per step on average (a nominal replay
+/// takes one) is near a limit of the candidate model's equilibria and fails
+/// instead, so the search steps back at the cost of a few ordinary replays
+/// (a part split with a very soft bending joint once took 40 000 Newton
+/// iterations on one path, seconds per trial).
+pub fn search_simulator() -> Simulator {
+    Simulator::with_budget(3, 30)
 }
 
 /// The rig's design references, one per path (its wheel).
@@ -69,6 +84,16 @@ pub fn channels_of(
                     .collect()
             })
             .collect(),
+        landmarks: states
+            .iter()
+            .zip(rig)
+            .map(|(st, p)| {
+                st.iter()
+                    .zip(&p.steps)
+                    .map(|(s, step)| simulated(model, s, &step.landmarks))
+                    .collect()
+            })
+            .collect(),
     }
 }
 
@@ -101,30 +126,63 @@ pub fn replay_states(
     Ok(out)
 }
 
+/// Appends the noise-weighted residuals of one step: its K&C channels
+/// `sim`, then the coordinates of its landmarks at `points`.
+pub fn step_residuals(
+    noise: &Noise,
+    step: &RigStep,
+    sim: &Measured,
+    points: &[Vec3],
+    out: &mut Vec<f64>,
+) {
+    let mut r = *sim;
+    for (c, v) in r.iter_mut().enumerate() {
+        *v -= step.measured[c];
+    }
+    out.extend_from_slice(&weighted(noise, &r));
+    let sigma = noise[Channel::Landmarks.index()].sigma;
+    for (x, (_, m)) in points.iter().zip(&step.landmarks) {
+        out.extend((x - m).iter().map(|d| d / sigma));
+    }
+}
+
+/// The number of residuals of `rig` in `subset` (channels × steps, and three
+/// per landmark).
+pub fn residual_count(rig: &[RigPath], subset: Subset) -> usize {
+    rig.iter()
+        .enumerate()
+        .map(|(p, path)| {
+            path.steps
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| subset.contains(p, *k))
+                .map(|(_, s)| 5 + 3 * s.landmarks.len())
+                .sum::<usize>()
+        })
+        .sum()
+}
+
 impl Replay {
     /// Noise-weighted residuals (simulated − measured) / σ of the steps in
-    /// `subset`, channel by channel, in path and step order.
+    /// `subset`, in path and step order: per step the K&C channels, then
+    /// each landmark's three coordinates ([`step_residuals`]).
     pub fn residuals(&self, rig: &[RigPath], noise: &Noise, subset: &Subset) -> Vec<f64> {
         let mut out = Vec::new();
         for (p, (sim, path)) in self.paths.iter().zip(rig).enumerate() {
             for (k, (s, step)) in sim.iter().zip(&path.steps).enumerate() {
-                if !subset.contains(p, k) {
-                    continue;
+                if subset.contains(p, k) {
+                    step_residuals(noise, step, s, &self.landmarks[p][k], &mut out);
                 }
-                let mut r = *s;
-                for (c, v) in r.iter_mut().enumerate() {
-                    *v -= step.measured[c];
-                }
-                out.extend_from_slice(&weighted(noise, &r));
             }
         }
         out
     }
 
-    /// Root-mean-square residual per channel (channel units) over `subset`.
-    pub fn rms(&self, rig: &[RigPath], subset: &Subset) -> Measured {
-        let mut sum = [0.0; 5];
-        let mut n = 0usize;
+    /// Root-mean-square residual per channel (channel units) over `subset`;
+    /// for the landmarks, per coordinate.
+    pub fn rms(&self, rig: &[RigPath], subset: &Subset) -> PerChannel {
+        let mut sum = [0.0; 6];
+        let (mut n, mut coords) = (0usize, 0usize);
         for (p, (sim, path)) in self.paths.iter().zip(rig).enumerate() {
             for (k, (s, step)) in sim.iter().zip(&path.steps).enumerate() {
                 if !subset.contains(p, k) {
@@ -134,8 +192,18 @@ impl Replay {
                 for c in 0..5 {
                     sum[c] += (s[c] - step.measured[c]).powi(2);
                 }
+                for (x, (_, m)) in self.landmarks[p][k].iter().zip(&step.landmarks) {
+                    sum[5] += (x - m).norm_squared();
+                    coords += 3;
+                }
             }
         }
-        sum.map(|v| if n == 0 { 0.0 } else { (v / n as f64).sqrt() })
+        let mean = |v: f64, n: usize| if n == 0 { 0.0 } else { (v / n as f64).sqrt() };
+        let mut out = [0.0; 6];
+        for c in 0..5 {
+            out[c] = mean(sum[c], n);
+        }
+        out[5] = mean(sum[5], coords);
+        out
     }
 }

@@ -8,7 +8,8 @@ use crate::data::table;
 use crate::diagnostic::Diagnostic;
 use crate::diagnostic::suggest::did_you_mean;
 use crate::identify::measured::{kc_channels, loads_of_file};
-use crate::model::{Model, PointLoad, WheelId};
+use crate::geom::Vec3;
+use crate::model::{LandmarkId, Model, PointLoad, WheelId};
 use crate::span::{FileId, Span};
 
 /// One measured step of a path.
@@ -19,6 +20,9 @@ pub struct RigStep {
     pub loads: Vec<PointLoad>,
     /// The measured channels of the path's wheel.
     pub measured: Measured,
+    /// The landmarks measured at this step (`--landmarks`): each matched to
+    /// its declared landmark, in the model frame ([`super::landmarks`]).
+    pub landmarks: Vec<(LandmarkId, Vec3)>,
 }
 
 /// One load path as the rig ran it.
@@ -29,6 +33,16 @@ pub struct RigPath {
     pub file: FileId,
     pub wheel: WheelId,
     pub steps: Vec<RigStep>,
+    /// What the landmarks' rigid pose fits left: the sum of squared
+    /// residuals (mm²) and its degrees of freedom, for the landmark noise.
+    pub pose_fit: PoseFitResidual,
+}
+
+/// The residual of the pose fits of a path's landmarks.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PoseFitResidual {
+    pub sum_sq: f64,
+    pub dof: usize,
 }
 
 /// Reads one K&C file for `model`.
@@ -47,6 +61,7 @@ pub fn read(model: &Model, file: FileId, name: &str, text: &str) -> Result<RigPa
             step,
             loads: l,
             measured: channel::of_observation(&design, obs),
+            landmarks: Vec::new(),
         });
     }
     if steps.is_empty() {
@@ -59,6 +74,7 @@ pub fn read(model: &Model, file: FileId, name: &str, text: &str) -> Result<RigPa
         file,
         wheel,
         steps,
+        pose_fit: PoseFitResidual::default(),
     })
 }
 
@@ -125,6 +141,11 @@ fn wheel_of(model: &Model, file: FileId, text: &str) -> Result<WheelId, Diagnost
 }
 
 impl RigPath {
+    /// Whether any step carries landmarks.
+    pub fn has_landmarks(&self) -> bool {
+        self.steps.iter().any(|s| !s.landmarks.is_empty())
+    }
+
     /// The component of the wheel load that varies most along the path (the
     /// sweep's load): its name and its value (N) at every step.
     pub fn main_load(&self) -> (&'static str, Vec<f64>) {

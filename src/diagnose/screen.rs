@@ -10,8 +10,8 @@
 use super::Context;
 use super::candidate::Candidate;
 use super::jacobian::{Evaluation, evaluate};
+use super::replay::search_simulator;
 use crate::model::Model;
-use crate::statics::path::Simulator;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 
@@ -66,7 +66,7 @@ pub fn screen_at_nominal(
                 designs: &ctx.designs[p..p + 1],
                 noise: ctx.noise,
             };
-            evaluate(&one, &all, base, &x0, &mut Simulator::new()).map_err(|e| {
+            evaluate(&one, &all, base, &x0, &mut search_simulator()).map_err(|e| {
                 format!(
                     "the nominal model's sensitivities failed at step {}: {}",
                     e.step + 1,
@@ -114,7 +114,7 @@ pub fn screen(ctx: &Context, cand: &Candidate, base: &Model) -> Screened {
             };
         }
     };
-    let mut sim = Simulator::new();
+    let mut sim = search_simulator();
     let mut best: Option<(Vec<f64>, f64)> = None;
     let mut why = None;
     for start in &cand.starts {

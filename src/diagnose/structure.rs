@@ -42,7 +42,7 @@ pub fn patterns(rig: &[RigPath], replay: &Replay, noise: &Noise) -> Vec<Pattern>
             continue;
         }
         let t: Vec<f64> = x.iter().map(|v| 2.0 * (v - lo) / (hi - lo) - 1.0).collect();
-        for c in Channel::ALL {
+        for c in Channel::KC {
             let r: Vec<f64> = replay.paths[p]
                 .iter()
                 .zip(&path.steps)

@@ -156,6 +156,18 @@ impl Landmarks {
         self.names.join(", ")
     }
 
+    /// The line of the first observation of `step` (for a diagnostic).
+    pub fn span_of_step(&self, sources: &SourceMap, step: usize) -> Option<Span> {
+        self.observations
+            .iter()
+            .zip(&self.files)
+            .find(|(o, _)| o.step == step)
+            .map(|(o, id)| {
+                let (a, b) = line_span(sources.text(*id), o.line);
+                Span::new(*id, a, b)
+            })
+    }
+
     /// Fits every part's pose at every step; what was left out becomes a
     /// warning pointing at the line of the data file it came from.
     pub fn fit(

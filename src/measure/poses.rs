@@ -32,6 +32,9 @@ pub struct PartPose {
     pub rms: f64,
     /// Residual of each matched landmark, mm.
     pub residuals: Vec<(LandmarkId, f64)>,
+    /// The measured point matched to each landmark (in the model frame once
+    /// registered), in the order of `residuals`.
+    pub points: Vec<(LandmarkId, Vec3)>,
 }
 
 /// Poses of the measured parts at one step.
@@ -158,6 +161,7 @@ pub fn fit_poses(
         }
         match fit(&p, &q) {
             Ok(f) => {
+                let points = used.iter().copied().zip(q.iter().copied()).collect();
                 let residuals = used.into_iter().zip(f.residuals).collect();
                 steps
                     .entry(step)
@@ -173,6 +177,7 @@ pub fn fit_poses(
                             translation: f.translation,
                             rms: f.rms,
                             residuals,
+                            points,
                         },
                     );
             }
@@ -205,6 +210,7 @@ fn ground_registration(ground: PartId, pooled: &[(PartId, Vec3, Vec3)]) -> Optio
         translation: f.translation,
         rms: f.rms,
         residuals: Vec::new(),
+        points: Vec::new(),
     })
 }
 
@@ -214,5 +220,8 @@ fn register(s: &mut StepPoses, g: &PartPose) {
     for p in s.parts.values_mut() {
         p.rotation = rt * p.rotation;
         p.translation = rt * (p.translation - g.translation);
+        for (_, x) in &mut p.points {
+            *x = rt * (*x - g.translation);
+        }
     }
 }

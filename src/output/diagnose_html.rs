@@ -184,7 +184,7 @@ pub fn page(model: &Model, rig: &[RigPath], d: &Diagnosis) -> String {
         "<h2>Held-out error</h2><p class=\"note\">RMS over the held-out steps (every third step of each path), which no fit saw.</p>\
          <table><tr><th>channel</th><th>nominal</th><th>extended</th><th>gain</th><th>noise σ</th></tr>"
     );
-    for c in Channel::ALL {
+    for c in d.channels() {
         let _ = write!(
             o,
             "<tr><td>{} ({})</td><td>{}</td><td>{}</td><td>{:.0} %</td><td>{}</td></tr>",
@@ -226,7 +226,7 @@ pub fn page(model: &Model, rig: &[RigPath], d: &Diagnosis) -> String {
     );
     for (k, p) in rig.iter().enumerate() {
         let _ = write!(o, "<h3>{}</h3><div class=\"plots\">", esc(&p.name));
-        for c in Channel::ALL {
+        for c in Channel::KC {
             o += &plot(p, c, &series(&d.nominal, k, c), &series(&d.replay, k, c));
         }
         o += "</div>";

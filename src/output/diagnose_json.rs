@@ -3,7 +3,7 @@
 //! each parameter's interval and the held-out split. Numbers in boundary
 //! units; an undetermined parameter is `null`, never a number.
 
-use crate::diagnose::channel::{Channel, Measured};
+use crate::diagnose::channel::PerChannel;
 use crate::diagnose::noise::Source;
 use crate::diagnose::rig::RigPath;
 use crate::diagnose::{Diagnosis, Effect, Hypothesis, ParamResult, structure, words};
@@ -13,9 +13,10 @@ fn num(v: f64) -> Value {
     if v.is_finite() { json!(v) } else { Value::Null }
 }
 
-fn channels(v: &Measured) -> Value {
+/// The measured channels' figures (`landmarks_mm` only with landmark data).
+fn channels(d: &Diagnosis, v: &PerChannel) -> Value {
     let mut m = Map::new();
-    for c in Channel::ALL {
+    for c in d.channels() {
         m.insert(c.name().into(), num(v[c.index()]));
     }
     Value::Object(m)
@@ -34,7 +35,7 @@ fn params(ps: &[ParamResult]) -> (Value, Value) {
     (Value::Object(values), Value::Object(intervals))
 }
 
-fn hypothesis(rank: usize, h: &Hypothesis) -> Value {
+fn hypothesis(d: &Diagnosis, rank: usize, h: &Hypothesis) -> Value {
     let (values, intervals) = params(&h.params);
     json!({
         "rank": rank,
@@ -44,7 +45,7 @@ fn hypothesis(rank: usize, h: &Hypothesis) -> Value {
         "params": values,
         "intervals": intervals,
         "units": h.params.iter().map(|p| (p.name.clone(), json!(p.unit))).collect::<Map<_, _>>(),
-        "rms_after": channels(&h.summary.rms_held_out),
+        "rms_after": channels(d, &h.summary.rms_held_out),
         "score": num(h.score),
         "significant": h.significant,
     })
@@ -57,13 +58,14 @@ fn effect(e: &Effect, d: &Diagnosis) -> Value {
         "element": e.hypothesis.element_name,
         "params": values,
         "intervals": intervals,
-        "gain": channels(&e.gain),
+        "gain": channels(d, &e.gain),
         "finding": words::sentence(e, &d.noise),
     })
 }
 
 pub fn to_json(d: &Diagnosis, rig: &[RigPath]) -> Value {
-    let noise: Map<String, Value> = Channel::ALL
+    let noise: Map<String, Value> = d
+        .channels()
         .into_iter()
         .map(|c| {
             let n = d.noise[c.index()];
@@ -71,6 +73,7 @@ pub fn to_json(d: &Diagnosis, rig: &[RigPath]) -> Value {
                 Source::Given => "given",
                 Source::Estimated(_) => "estimated",
                 Source::Floor => "floor",
+                Source::Absent => "absent",
             };
             (
                 c.name().to_string(),
@@ -82,14 +85,14 @@ pub fn to_json(d: &Diagnosis, rig: &[RigPath]) -> Value {
         Some(e) => json!({
             "kind": e.hypothesis.kind.name(),
             "element": e.hypothesis.element_name,
-            "gain": channels(&d.total_gain()),
+            "gain": channels(d, &d.total_gain()),
         }),
-        None => json!({ "kind": "none", "element": null, "gain": channels(&[0.0; 5]) }),
+        None => json!({ "kind": "none", "element": null, "gain": channels(d, &[0.0; 6]) }),
     };
     json!({
         "baseline": {
-            "rms": channels(&d.baseline.rms),
-            "rms_held_out": channels(&d.baseline.rms_held_out),
+            "rms": channels(d, &d.baseline.rms),
+            "rms_held_out": channels(d, &d.baseline.rms_held_out),
         },
         "noise": noise,
         "residual_structure": structure::patterns(rig, &d.nominal, &d.noise).iter().map(|p| json!({
@@ -99,7 +102,7 @@ pub fn to_json(d: &Diagnosis, rig: &[RigPath]) -> Value {
             "sentence": p.sentence,
         })).collect::<Vec<_>>(),
         "held_out": { "rule": "every third step of each path", "residuals": d.held_out, "training_residuals": d.training },
-        "hypotheses": d.hypotheses.iter().enumerate().map(|(k, h)| hypothesis(k + 1, h)).collect::<Vec<_>>(),
+        "hypotheses": d.hypotheses.iter().enumerate().map(|(k, h)| hypothesis(d, k + 1, h)).collect::<Vec<_>>(),
         "verdict": verdict,
         "effects": d.effects.iter().map(|e| effect(e, d)).collect::<Vec<_>>(),
         "skipped": d.skipped.iter().map(|s| json!({

@@ -46,12 +46,14 @@ pub fn table(d: &Diagnosis, rig: &[RigPath], model: &str) -> String {
     let after = d.effects.last().map_or(d.baseline.rms_held_out, |e| {
         e.hypothesis.summary.rms_held_out
     });
-    for c in Channel::ALL {
+    for c in d.channels() {
         let n = d.noise[c.index()];
         let from = match n.source {
             Source::Given => "--noise".to_string(),
+            Source::Estimated(k) if c == Channel::Landmarks => format!("{k} dof fit"),
             Source::Estimated(k) => format!("{k} diffs"),
             Source::Floor => "floor".to_string(),
+            Source::Absent => continue,
         };
         let _ = writeln!(
             o,

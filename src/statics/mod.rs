@@ -272,6 +272,12 @@ pub(crate) fn solve_reusing(
     let mut evaluated = true;
     let (mut s, mut ds, mut steps, mut iterations) = (0.0f64, 1.0f64, 0usize, 0usize);
     while s < 1.0 {
+        if let Some(left) = &mut sv.attempts_left {
+            if *left == 0 {
+                return Err(over_budget());
+            }
+            *left -= 1;
+        }
         let target = if s + ds >= 1.0 - 1e-12 { 1.0 } else { s + ds };
         let l = interpolate(&from, loads, target);
         let (r0, phi0) = if target < 1.0 {
@@ -411,6 +417,17 @@ fn finish(
         residual: ef.max(ec),
         reactions,
     })
+}
+
+/// The error of a path that used up its budget of load sub-steps: the model
+/// is near a limit of its equilibria there (a caller exploring parameters
+/// takes that as "too far", not as a result).
+fn over_budget() -> StaticsError {
+    StaticsError::new(
+        StaticsErrorKind::NotConverged,
+        vec![],
+        "the load path needed more load sub-steps than its budget: the model is close to a limit of its equilibria here",
+    )
 }
 
 /// The error for a load step that would not converge: the part with the largest

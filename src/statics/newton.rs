@@ -296,6 +296,9 @@ pub(crate) struct Solver {
     pub factorizations: usize,
     /// Where the last successful solve with these buffers ended.
     pub ended_at: Option<State>,
+    /// Load (sub-)step attempts this solve may still take (a path's budget,
+    /// [`super::path::Simulator::with_budget`]); `None`: unlimited.
+    pub attempts_left: Option<usize>,
     x: Vec<f64>,
     b: Vec<f64>,
     dq: DVector<f64>,
@@ -312,6 +315,7 @@ impl Solver {
             predict: false,
             factorizations: 0,
             ended_at: None,
+            attempts_left: None,
             x: vec![0.0; n + m],
             b: vec![0.0; n + m],
             dq: DVector::zeros(n),

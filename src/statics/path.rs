@@ -66,6 +66,9 @@ pub fn set_loads(model: &Model, set: LoadSetId) -> Result<Vec<Vec<PointLoad>>, P
 #[derive(Default)]
 pub struct Simulator {
     solver: Option<Solver>,
+    /// Load (sub-)step attempts a run may take: `per_case` per case solved
+    /// so far plus `extra` ([`Simulator::with_budget`]).
+    budget: Option<(usize, usize)>,
 }
 
 impl std::fmt::Debug for Simulator {
@@ -77,6 +80,20 @@ impl std::fmt::Debug for Simulator {
 impl Simulator {
     pub fn new() -> Simulator {
         Simulator::default()
+    }
+
+    /// A simulator whose runs give up (a `NotConverged` failure at the case)
+    /// once they have taken more than `per_case` load sub-step attempts per
+    /// case so far, plus `extra`. A path that converges in one step per case
+    /// takes one attempt per case; one that needs hundreds of sub-steps per
+    /// case is near a limit of the model's equilibria, and a caller exploring
+    /// parameters (diagnosis) would rather step back than pay for it. The
+    /// first case of a run with a fresh solver is not counted.
+    pub fn with_budget(per_case: usize, extra: usize) -> Simulator {
+        Simulator {
+            solver: None,
+            budget: Some((per_case, extra)),
+        }
     }
 
     /// Solves `cases` in order from `start`. Case `k` starts from the previous
@@ -160,7 +177,14 @@ impl Simulator {
             sv.ended_at = None;
         }
         let mut steps: Vec<Equilibrium> = Vec::new();
+        let mut used = 0usize;
         for (case, loads) in cases.into_iter().enumerate() {
+            let allowed = self
+                .budget
+                .map(|(per_case, extra)| (per_case * (case + 1) + extra).saturating_sub(used));
+            if let Some(sv) = &mut self.solver {
+                sv.attempts_left = allowed;
+            }
             let committed = steps.last().map_or(start, |e| &e.state);
             let guessed;
             let from = match guesses.get(case) {
@@ -170,7 +194,14 @@ impl Simulator {
                 }
                 None => committed,
             };
-            match solve_reusing(problem, loads.as_ref(), from, &mut self.solver) {
+            let solved = solve_reusing(problem, loads.as_ref(), from, &mut self.solver);
+            if let Some(sv) = &mut self.solver {
+                if let (Some(a), Some(left)) = (allowed, sv.attempts_left) {
+                    used += a - left;
+                }
+                sv.attempts_left = None;
+            }
+            match solved {
                 Ok(eq) => {
                     let stop = match &mut self.solver {
                         Some(sv) => after(case, sv, &eq).is_err(),
