@@ -1083,3 +1083,34 @@ fn path_sensitivities_with_friction_match_central_differences() {
     assert!(scale > 0.0);
     assert!(worst < 1e-3 * scale, "{worst:e} vs {scale:e}");
 }
+
+/// A path's sub-step budget (`Simulator::with_budget`): every load step a
+/// case takes (one when it converges at once) counts against `per_case` per
+/// case so far plus `extra`; the run fails at the case that finds the budget
+/// spent, names it, and keeps the cases before; a budget that covers the path
+/// gives exactly the unbudgeted result.
+#[test]
+fn a_path_that_exhausts_its_sub_step_budget_fails_at_that_case() {
+    use axle::statics::path::Simulator;
+    let m = mcpherson(1000.0);
+    let problem = Problem::new(&m.model).expect("compiles");
+    let cases: Vec<_> = [3000.0, 3300.0, 3600.0, 3900.0]
+        .iter()
+        .map(|&fz| wheel(&m, 0.0, 0.0, fz))
+        .collect();
+    let start = State::design(&m.model);
+    let free = Simulator::new().run(&problem, &cases, &start, &[]);
+    assert!(free.failure.is_none(), "{:?}", free.failure);
+    assert!(free.steps[1..].iter().all(|e| e.substeps == 0));
+    // Nothing per case and one step in all: the fresh solver's first case is
+    // not counted, the second takes the one step, the third finds none left.
+    let tight = Simulator::with_budget(0, 1).run(&problem, &cases, &start, &[]);
+    let f = tight.failure.expect("the third case exceeds the budget");
+    assert_eq!((f.case, tight.steps.len()), (2, 2));
+    assert_eq!(f.error.kind, StaticsErrorKind::NotConverged);
+    assert!(f.error.detail.contains("budget"), "{}", f.error.detail);
+    assert_eq!(tight.steps[1].state, free.steps[1].state);
+    let ample = Simulator::with_budget(1, 0).run(&problem, &cases, &start, &[]);
+    assert!(ample.failure.is_none(), "{:?}", ample.failure);
+    assert_eq!(ample.steps[3].state, free.steps[3].state);
+}
