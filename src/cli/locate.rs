@@ -5,6 +5,7 @@
 use super::Exit;
 use crate::diagnostic::{Diagnostic, render};
 use crate::locate::plan::{Options, locate_all};
+use crate::locate::preflight::{self, Purpose};
 use crate::locate::report::{Report, apply, report};
 use crate::measure::inputs::{self, LandmarkFile, LandmarkFormat, Landmarks, Remarks};
 use crate::model::Model;
@@ -54,7 +55,7 @@ pub fn run(a: &Args) -> Exit {
         Ok(x) => x,
         Err(code) => return code,
     };
-    if let Some(d) = crate::locate::preflight::check(&model, &steps) {
+    if let Some(d) = preflight(&data, &model, &steps, Purpose::Locate) {
         render::to_stderr(&sources, &[d]);
         return Exit::Input;
     }
@@ -152,6 +153,18 @@ fn relative_table(r: &Report) -> String {
         s += &format!("{name:<10} {parts:<28} {deg:>14.3} {rs:>7} {mm:>13.3} {ts:>7}\n");
     }
     s
+}
+
+/// What the landmark data lacks for `purpose` (`locate::preflight`), as one
+/// error naming the data files; `correct` passes the one step it uses.
+pub fn preflight(
+    data: &Landmarks,
+    model: &Model,
+    steps: &[crate::measure::poses::StepPoses],
+    purpose: Purpose,
+) -> Option<Diagnostic> {
+    preflight::check_for(model, steps, purpose)
+        .map(|d| d.note(format!("the landmark data: {}", data.shown())))
 }
 
 fn is_iges(p: &Path) -> bool {
