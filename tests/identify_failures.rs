@@ -2,6 +2,7 @@
 //! and code (E11xx, `docs/language.md`) and names the elements responsible; a
 //! statics failure underneath is kept whole as the source.
 
+mod common;
 use axle::identify::{self, IdentifyErrorKind, Measured};
 use axle::model::{ElementId, LoadSetId, Model};
 use axle::statics::{self, State, StaticsErrorKind};
@@ -140,4 +141,126 @@ fn iterative_with_a_spring_rate_is_a_method_error_naming_the_spring() {
         e.elements,
         vec![ElementId::Spring(axle::model::SpringId(spring as u32))]
     );
+}
+
+/// Issue 15: `identify` on landmark data that cannot determine anything
+/// says what is missing (the checks `locate` makes, `locate::preflight`).
+mod data_preflight {
+    use super::common::{axle, scratch};
+
+    const DATA: &str =
+        include_str!("data/expected/mcpherson_thesis_table_4_4_landmarks_sigma0.05_seed1.csv");
+
+    /// The header and the rows of `DATA` that `keep` accepts (step, part).
+    fn rows(keep: impl Fn(&str, &str) -> bool) -> String {
+        let mut out = String::new();
+        for l in DATA.lines().filter(|l| !l.starts_with('#')) {
+            let mut f = l.split(',');
+            let (step, part) = (f.next().unwrap_or(""), f.next().unwrap_or(""));
+            if step == "step" || keep(step, part) {
+                out += l;
+                out += "\n";
+            }
+        }
+        out
+    }
+
+    fn identify(name: &str, csv: &str, loads: &str, method: &str) -> (i32, String, String) {
+        let (data, loads) = (
+            scratch(name, csv),
+            scratch(&format!("{name}.loads.csv"), loads),
+        );
+        let args = ["identify", "examples/mcpherson.axle", "--landmarks", &data];
+        let rest = ["--loads", &loads, "--method", method];
+        axle(&[&args[..], &rest[..]].concat())
+    }
+
+    /// No number in the output: one error and nothing on stdout.
+    fn one_error(code: i32, out: &str, err: &str, expected: &str) {
+        assert_eq!(code, 1, "{out}{err}");
+        assert!(out.is_empty(), "{out}");
+        assert!(err.contains(expected), "{err}");
+        assert_eq!(err.matches("error[").count(), 1, "{err}");
+        assert!(!err.contains("NaN") && !err.contains("inf"), "{err}");
+    }
+
+    /// One measured state (today: E1105 for the iterative method, a table of
+    /// "does not affect the observations" for lsq).
+    #[test]
+    fn one_state_is_an_error_for_every_method() {
+        let loads = "step,fx,fy,fz\n1,0,0,1500\n";
+        for method in ["iterative", "lsq"] {
+            let (code, out, err) = identify(
+                "identify_one_step.csv",
+                &rows(|s, _| s == "1"),
+                loads,
+                method,
+            );
+            one_error(
+                code,
+                &out,
+                &err,
+                "error[E0810]: identify needs at least two measured states with relative motion: the data has 1 (step 1)",
+            );
+            assert!(
+                err.contains("identify_one_step.csv"),
+                "the data file named: {err}"
+            );
+        }
+    }
+
+    /// The same state measured twice (today: a table of parameters kept at
+    /// their values for "no deformation or force spread").
+    #[test]
+    fn two_identical_states_are_no_motion() {
+        let first = rows(|s, _| s == "1");
+        let again: String = first
+            .lines()
+            .skip(1)
+            .map(|l| format!("2{}\n", &l[1..]))
+            .collect();
+        let loads = "step,fx,fy,fz\n1,0,0,1500\n2,0,0,1500\n";
+        for method in ["iterative", "lsq"] {
+            let csv = format!("{first}{again}");
+            let (code, out, err) = identify("identify_same_twice.csv", &csv, loads, method);
+            one_error(
+                code,
+                &out,
+                &err,
+                "no two connected parts move relative to each other between steps 1, 2",
+            );
+        }
+    }
+
+    /// A part the model gives landmarks, absent from the data (today: the
+    /// iterative and lsq methods identify what they can and say nothing;
+    /// direct already fails with E1104 naming the part).
+    #[test]
+    fn a_measured_part_missing_from_the_data_is_named() {
+        let loads: String = std::iter::once("step,fx,fy,fz\n".to_string())
+            .chain((1..=17).map(|s| format!("{s},0,0,{}\n", 1000 + 100 * s)))
+            .collect();
+        for method in ["direct", "iterative", "lsq"] {
+            let (code, out, err) = identify(
+                "identify_no_tie_rod.csv",
+                &rows(|_, p| p != "tie_rod"),
+                &loads,
+                method,
+            );
+            one_error(
+                code,
+                &out,
+                &err,
+                "error[E0811]: the landmark data measures no pose of part `tie_rod`",
+            );
+            assert!(
+                err.contains("these cannot be identified: `L3`, `L6`"),
+                "{err}"
+            );
+            assert!(
+                err.contains("examples/mcpherson.axle:42"),
+                "at the part: {err}"
+            );
+        }
+    }
 }

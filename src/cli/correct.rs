@@ -76,6 +76,14 @@ pub fn run(a: &Args) -> Exit {
             return Exit::Input;
         }
     };
+    // A part with landmarks missing at the measured step: an error, not an
+    // element silently left uncorrected.
+    let purpose = crate::locate::preflight::Purpose::Correct;
+    let one = std::slice::from_ref(measured);
+    if let Some(d) = super::locate::preflight(&data, &model, one, purpose) {
+        render::to_stderr(&sources, &[d]);
+        return Exit::Input;
+    }
     let c = match crate::locate::correct::correct(&model, measured, &loads) {
         Ok(c) => c,
         Err(e) => {

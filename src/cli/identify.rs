@@ -152,9 +152,18 @@ fn identify(
         .map_err(|(d, code)| Failure(vec![*d], code))?;
     let mut remarks = inputs::Remarks::default();
     let landmarks = inputs::read_landmarks(sources, &files, &model, &mut remarks);
-    let poses = landmarks.map(|l| l.fit(sources, &model, a.match_tolerance, &mut remarks));
+    let poses = landmarks.map(|l| {
+        let steps = l.fit(sources, &model, a.match_tolerance, &mut remarks);
+        (l, steps)
+    });
     super::locate::render_remarks(sources, &remarks);
-    let poses = poses.map_err(Failure::input)?;
+    let (landmarks, poses) = poses.map_err(Failure::input)?;
+    // Too few states, or a measured part missing: one error, not a table of
+    // unidentified parameters.
+    let purpose = crate::locate::preflight::Purpose::Identify;
+    if let Some(d) = super::locate::preflight(&landmarks, &model, &poses, purpose) {
+        return Err(Failure::input(d));
+    }
 
     // Loads per step.
     let read = |sources: &mut SourceMap, path: &Path| {

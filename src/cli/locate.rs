@@ -5,6 +5,7 @@
 use super::Exit;
 use crate::diagnostic::{Diagnostic, render};
 use crate::locate::plan::{Options, locate_all};
+use crate::locate::preflight::{self, Purpose};
 use crate::locate::report::{Report, apply, report};
 use crate::measure::inputs::{self, LandmarkFile, LandmarkFormat, Landmarks, Remarks};
 use crate::model::Model;
@@ -36,6 +37,11 @@ pub struct Args {
     /// Centres less certain than this (mm) are reported as not observable.
     #[arg(long, default_value_t = 5.0)]
     pub max_uncertainty: f64,
+    /// Axes whose direction is less certain than this (degrees, one standard
+    /// deviation) are not reported; today only a strut's axis has its own
+    /// uncertainty.
+    #[arg(long, default_value_t = 2.0)]
+    pub max_axis_uncertainty: f64,
 }
 
 pub fn run(a: &Args) -> Exit {
@@ -54,7 +60,7 @@ pub fn run(a: &Args) -> Exit {
         Ok(x) => x,
         Err(code) => return code,
     };
-    if let Some(d) = crate::locate::preflight::check(&model, &steps) {
+    if let Some(d) = preflight(&data, &model, &steps, Purpose::Locate) {
         render::to_stderr(&sources, &[d]);
         return Exit::Input;
     }
@@ -68,6 +74,7 @@ pub fn run(a: &Args) -> Exit {
     let opt = Options {
         sigma: a.sigma,
         max_uncertainty: a.max_uncertainty,
+        max_axis_uncertainty: a.max_axis_uncertainty,
         ..Options::default()
     };
     let located = locate_all(&model, &steps, &opt);
@@ -99,7 +106,7 @@ pub fn run(a: &Args) -> Exit {
 fn table(r: &Report) -> String {
     let mut s = format!("located at step {} (global mm)\n", r.reference_step);
     s += &format!(
-        "{:<10} {:<12} {:>30} {:>24} {:>9} {:>11}  method\n",
+        "{:<10} {:<12} {:>30} {:>32} {:>9} {:>11}  method\n",
         "element", "kind", "centre", "axis", "residual", "uncertainty"
     );
     for (name, e) in &r.joints {
@@ -107,14 +114,17 @@ fn table(r: &Report) -> String {
             format!("({:.2}, {:.2}, {:.2})", c[0], c[1], c[2])
         });
         let a = e.axis.map_or("-".to_string(), |a| {
-            format!("({:.3}, {:.3}, {:.3})", a[0], a[1], a[2])
+            let within = e
+                .axis_uncertainty_deg
+                .map_or(String::new(), |u| format!(" ±{u:.2}°"));
+            format!("({:.3}, {:.3}, {:.3}){within}", a[0], a[1], a[2])
         });
         let u = e
             .uncertainty_mm
             .map_or("-".to_string(), |u| format!("{u:.3}"));
         let res = e.residual_mm.map_or("-".to_string(), |r| format!("{r:.3}"));
         s += &format!(
-            "{name:<10} {:<12} {c:>30} {a:>24} {res:>9} {u:>11}  {}\n",
+            "{name:<10} {:<12} {c:>30} {a:>32} {res:>9} {u:>11}  {}\n",
             e.kind, e.method
         );
         if !e.observable {
@@ -152,6 +162,18 @@ fn relative_table(r: &Report) -> String {
         s += &format!("{name:<10} {parts:<28} {deg:>14.3} {rs:>7} {mm:>13.3} {ts:>7}\n");
     }
     s
+}
+
+/// What the landmark data lacks for `purpose` (`locate::preflight`), as one
+/// error naming the data files; `correct` passes the one step it uses.
+pub fn preflight(
+    data: &Landmarks,
+    model: &Model,
+    steps: &[crate::measure::poses::StepPoses],
+    purpose: Purpose,
+) -> Option<Diagnostic> {
+    preflight::check_for(model, steps, purpose)
+        .map(|d| d.note(format!("the landmark data: {}", data.shown())))
 }
 
 fn is_iges(p: &Path) -> bool {

@@ -19,6 +19,9 @@ pub struct Options {
     pub max_uncertainty: f64,
     /// A bushing stiffer than this along its link (N/mm) is treated as a ball joint.
     pub stiff_bushing: f64,
+    /// An axis whose direction is less certain than this (degrees, one
+    /// standard deviation) is not reported.
+    pub max_axis_uncertainty: f64,
 }
 
 impl Default for Options {
@@ -27,6 +30,7 @@ impl Default for Options {
             sigma: 0.05,
             max_uncertainty: 5.0,
             stiff_bushing: 5000.0,
+            max_axis_uncertainty: 2.0,
         }
     }
 }
@@ -41,7 +45,18 @@ pub struct Located {
     /// Part whose frame carries the result (the I marker's part).
     pub frame: PartId,
     pub center: Option<Vec3>,
+    /// Design coordinates, fixed in `axis_part`.
     pub axis: Option<Vec3>,
+    /// Part whose frame carries the axis: `frame`, except for a strut top
+    /// (a chassis point) whose axis is fixed in the upright.
+    pub axis_part: PartId,
+    /// One standard deviation of the axis direction along its worst way to
+    /// tilt, rad; infinite when not estimated (the axis then stands or falls
+    /// with the centre).
+    pub axis_uncertainty: f64,
+    /// Whether the axis is reported: its own uncertainty within the limit, or,
+    /// where that is not estimated, the centre observable.
+    pub axis_determined: bool,
     pub residual: f64,
     pub uncertainty: f64,
     pub observable: bool,
@@ -62,6 +77,9 @@ impl Located {
             frame,
             center: None,
             axis: None,
+            axis_part: frame,
+            axis_uncertainty: f64::INFINITY,
+            axis_determined: false,
             residual: 0.0,
             uncertainty: f64::INFINITY,
             observable: false,
@@ -327,7 +345,14 @@ fn struts(model: &Model, steps: &[StepPoses], opt: &Options) -> Vec<Located> {
             model.marker(mj).origin()
         };
         let rels = relative(model, steps, slide_part, top_part);
-        let s = nonlinear::strut_top(&rels, &prior, opt.sigma);
+        let mut s = nonlinear::strut_top(&rels, &prior, opt.sigma);
+        // The axis points the way the model's cylindrical joint does, so that
+        // `-o` does not turn its markers over.
+        let cj = &model.joints[cyl];
+        let model_axis = model.marker(cj.j).rotation.column(2).into_owned();
+        s.axis = s
+            .axis
+            .map(|a| if a.dot(&model_axis) < 0.0 { -a } else { a });
         // The height along the strut axis is kept from the model (see strut_top).
         let (center, undetermined) = match s.axis {
             Some(a) => (s.center - a * a.dot(&(s.center - prior)), Some(a)),
@@ -345,6 +370,9 @@ fn struts(model: &Model, steps: &[StepPoses], opt: &Options) -> Vec<Located> {
             frame: top_part,
             center: Some(center),
             axis: s.axis,
+            axis_part: slide_part,
+            axis_uncertainty: s.axis_uncertainty,
+            axis_determined: false,
             residual: s.residual,
             uncertainty: s.uncertainty,
             observable: false,
@@ -352,13 +380,13 @@ fn struts(model: &Model, steps: &[StepPoses], opt: &Options) -> Vec<Located> {
             note: "the height along the strut axis is not determined by the motion (confounded with the top mount's deformation): kept from the model".into(),
         };
         let located = verdict(l, &rels, opt);
-        let cj = &model.joints[cyl];
         out.push(Located {
             element: ElementId::Joint(JointId(cyl as u32)),
             name: cj.name.clone(),
             kind: "cylindrical".into(),
             method: format!("strut axis through the located top of `{name}`"),
-            frame: top_part,
+            // A point of the upright's axis: carried by the upright.
+            frame: slide_part,
             center: located
                 .center
                 .zip(located.axis)
@@ -377,6 +405,8 @@ pub(super) fn verdict(mut l: Located, rels: &[super::motion::Rel], opt: &Options
         l.observable = false;
         return l;
     }
+    let axis_estimated = l.axis.is_some() && l.axis_uncertainty.is_finite();
+    let axis_deg = l.axis_uncertainty.to_degrees();
     if !l.uncertainty.is_finite() || l.uncertainty > opt.max_uncertainty {
         l.observable = false;
         l.note = format!(
@@ -389,11 +419,25 @@ pub(super) fn verdict(mut l: Located, rels: &[super::motion::Rel], opt: &Options
             },
             opt.max_uncertainty
         );
+        l.axis_determined = axis_estimated && axis_deg <= opt.max_axis_uncertainty;
+        if l.axis_determined {
+            l.note += &format!(
+                "; the axis direction is determined all the same, within {axis_deg:.2}° (one standard deviation)"
+            );
+        }
     } else {
         l.observable = true;
+        l.axis_determined =
+            l.axis.is_some() && (!axis_estimated || axis_deg <= opt.max_axis_uncertainty);
         if l.note.is_empty() {
             l.note = format!("largest relative rotation {rotation:.2}°");
         }
+    }
+    if axis_estimated && !l.axis_determined {
+        l.note += &format!(
+            "; the axis direction is uncertain by {axis_deg:.2}° (limit {}°): not reported",
+            opt.max_axis_uncertainty
+        );
     }
     l
 }

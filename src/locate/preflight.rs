@@ -1,8 +1,10 @@
-//! What the data must hold before anything is located (issue 15): at least
-//! two measured states with relative motion between connected parts, and a
-//! pose of every part the model gives landmarks. Without them every centre
-//! is "unbounded" and the tables filled with NaN and 1e14 mm; instead the
-//! user gets one error naming what is missing (E0810, E0811).
+//! What the data must hold before anything is located, identified or
+//! corrected (issue 15): at least two measured states with relative motion
+//! between connected parts (`locate`, `identify`), and a pose of every part
+//! the model gives landmarks (all three). Without them every centre is
+//! "unbounded" and the tables filled with NaN and 1e14 mm, or elements are
+//! silently left alone; instead the user gets one error naming what is
+//! missing (E0810, E0811).
 
 use super::motion::pose;
 use crate::diagnostic::Diagnostic;
@@ -15,13 +17,50 @@ use crate::model::{Model, PartId};
 const STILL_ROTATION: f64 = 2e-4;
 const STILL_TRANSLATION: f64 = 0.01;
 
-/// The first problem found in the data, as an error.
+/// The command whose data is checked: it names itself in the errors.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Purpose {
+    Locate,
+    Identify,
+    Correct,
+}
+
+impl Purpose {
+    fn command(self) -> &'static str {
+        match self {
+            Purpose::Locate => "locate",
+            Purpose::Identify => "identify",
+            Purpose::Correct => "correct",
+        }
+    }
+
+    /// What cannot be done to an element without its part's pose.
+    fn participle(self) -> &'static str {
+        match self {
+            Purpose::Locate => "located",
+            Purpose::Identify => "identified",
+            Purpose::Correct => "corrected",
+        }
+    }
+}
+
+/// The first problem found in the data for `locate`, as an error.
 pub fn check(model: &Model, steps: &[StepPoses]) -> Option<Diagnostic> {
-    missing_parts(model, steps).or_else(|| too_little_motion(model, steps))
+    check_for(model, steps, Purpose::Locate)
+}
+
+/// The first problem found in the data for `purpose`, as an error: a part
+/// missing (E0811), then too few states (E0810; not for `correct`, which
+/// uses one state: give it the one step it uses).
+pub fn check_for(model: &Model, steps: &[StepPoses], purpose: Purpose) -> Option<Diagnostic> {
+    missing_parts(model, steps, purpose).or_else(|| match purpose {
+        Purpose::Correct => None,
+        _ => too_little_motion(model, steps, purpose),
+    })
 }
 
 /// E0811: parts the model gives landmarks that no step of the data measures.
-fn missing_parts(model: &Model, steps: &[StepPoses]) -> Option<Diagnostic> {
+pub fn missing_parts(model: &Model, steps: &[StepPoses], purpose: Purpose) -> Option<Diagnostic> {
     let mut missing: Vec<PartId> = Vec::new();
     for l in &model.landmarks {
         let p = l.part;
@@ -49,10 +88,15 @@ fn missing_parts(model: &Model, steps: &[StepPoses]) -> Option<Diagnostic> {
         })
         .map(|(n, ..)| format!("`{n}`"))
         .collect();
+    // `correct` uses one step: say which.
+    let at = match (purpose, steps) {
+        (Purpose::Correct, [s]) => format!(" at step {}", s.step),
+        _ => String::new(),
+    };
     let mut d = Diagnostic::error(
         "E0811",
         format!(
-            "the landmark data measures no pose of part{} {} (the model gives {} landmarks)",
+            "the landmark data measures no pose of part{} {}{at} (the model gives {} landmarks)",
             if missing.len() == 1 { "" } else { "s" },
             names.join(", "),
             if missing.len() == 1 { "it" } else { "them" }
@@ -65,8 +109,9 @@ fn missing_parts(model: &Model, steps: &[StepPoses]) -> Option<Diagnostic> {
     .hint("add the part's landmarks to the data (its name in the `part` column), or remove its landmarks from the model");
     if !needing.is_empty() {
         d = d.note(format!(
-            "without {}, these cannot be located: {}",
+            "without {}, these cannot be {}: {}",
             if missing.len() == 1 { "it" } else { "them" },
+            purpose.participle(),
             needing.join(", ")
         ));
     }
@@ -75,12 +120,19 @@ fn missing_parts(model: &Model, steps: &[StepPoses]) -> Option<Diagnostic> {
 
 /// E0810: fewer than two measured states, or no connected pair of parts
 /// moving relative to each other between them.
-fn too_little_motion(model: &Model, steps: &[StepPoses]) -> Option<Diagnostic> {
+pub fn too_little_motion(
+    model: &Model,
+    steps: &[StepPoses],
+    purpose: Purpose,
+) -> Option<Diagnostic> {
     let listed: Vec<String> = steps.iter().map(|s| s.step.to_string()).collect();
     let error = |why: String| {
         Diagnostic::error(
             "E0810",
-            format!("locate needs at least two measured states with relative motion: {why}"),
+            format!(
+                "{} needs at least two measured states with relative motion: {why}",
+                purpose.command()
+            ),
         )
         .hint("measure the axle in several states of a load path (bump, steering, lateral load)")
     };

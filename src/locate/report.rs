@@ -14,7 +14,17 @@ pub struct Entry {
     pub kind: String,
     pub method: String,
     pub center: Option<[f64; 3]>,
+    /// Unit axis, global at the reference step (carried by `axis_part`).
     pub axis: Option<[f64; 3]>,
+    /// The same axis in the model frame at design (every part frame is the
+    /// global frame there): what `-o` writes into the joint's markers.
+    pub axis_design: Option<[f64; 3]>,
+    /// The part that carries the axis (the upright for a strut).
+    pub axis_part: Option<String>,
+    /// One standard deviation of the axis direction along its worst way to
+    /// tilt, degrees; `None` where it is not estimated (the axis is then
+    /// reported only with an observable centre).
+    pub axis_uncertainty_deg: Option<f64>,
     /// None when the fit had no residual to give (not a number).
     pub residual_mm: Option<f64>,
     pub uncertainty_mm: Option<f64>,
@@ -177,19 +187,28 @@ pub fn report(model: &Model, steps: &[StepPoses], located: &[Located], reference
     let joints = located
         .iter()
         .map(|l| {
-            let (r, t) = step
-                .and_then(|s| super::motion::pose(model, s, l.frame))
-                .unwrap_or((crate::geom::Mat3::identity(), Vec3::zeros()));
+            let at = |p| {
+                step.and_then(|s| super::motion::pose(model, s, p))
+                    .unwrap_or((crate::geom::Mat3::identity(), Vec3::zeros()))
+            };
+            let (r, t) = at(l.frame);
+            let (ra, _) = at(l.axis_part);
             let ok = l.observable;
+            let axis = l.axis.filter(|_| l.axis_determined);
             let entry = Entry {
                 kind: l.kind.clone(),
                 method: l.method.clone(),
                 center: l.center.filter(|_| ok).map(|c| arr(r * c + t)),
-                axis: l.axis.filter(|_| ok).map(|a| arr(r * a)),
+                axis: axis.map(|a| arr(ra * a)),
+                axis_design: axis.map(arr),
+                axis_part: axis.map(|_| model.part(l.axis_part).name.clone()),
+                axis_uncertainty_deg: axis
+                    .filter(|_| l.axis_uncertainty.is_finite())
+                    .map(|_| l.axis_uncertainty.to_degrees()),
                 residual_mm: l.residual.is_finite().then_some(l.residual),
                 uncertainty_mm: (ok && l.uncertainty.is_finite()).then_some(l.uncertainty),
                 observable: ok,
-                undetermined_direction: l.undetermined.filter(|_| ok).map(|d| arr(r * d)),
+                undetermined_direction: l.undetermined.filter(|_| ok).map(|d| arr(ra * d)),
                 note: l.note.clone(),
             };
             (l.name.clone(), entry)
