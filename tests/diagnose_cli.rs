@@ -161,3 +161,73 @@ fn bad_input_is_a_located_diagnostic_or_a_usage_error() {
     ]);
     assert_eq!(code, 2, "{err}");
 }
+
+/// Landmark CSVs of the same truth runs as [`rig`], σ = 0.05 mm.
+fn landmark_files(stem: &str) -> Vec<String> {
+    let truth = include_str!("../examples/mcpherson.axle")
+        .replace("k (310, 2400, 180) N/mm", "k (775, 2400, 180) N/mm");
+    let (_, checked) = axle::check::check_str("truth.axle", &truth);
+    let model = checked.model.expect("the truth checks");
+    ["bump", "lateral"]
+        .iter()
+        .enumerate()
+        .map(|(k, s)| {
+            let set = model.load_set_named(s).expect("sweep");
+            let csv = axle::measure::synthetic::landmarks_csv(&model, set, 0.05, 40 + k as u64)
+                .expect("truth solves");
+            scratch(&format!("{stem}_{s}_landmarks.csv"), &csv)
+        })
+        .collect()
+}
+
+#[test]
+fn landmarks_are_a_channel_and_must_come_from_the_same_run() {
+    let kc = rig("lm");
+    let lm = landmark_files("lm");
+    let (code, table, err) = axle(&[
+        "diagnose",
+        "examples/mcpherson.axle",
+        "--kc",
+        &kc[0],
+        &kc[1],
+        "--landmarks",
+        &lm[0],
+        &lm[1],
+        "--candidates",
+        "stiffness",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let row = table
+        .lines()
+        .find(|l| l.trim_start().starts_with("landmarks_mm"))
+        .unwrap_or_else(|| panic!("no landmark row: {table}"));
+    assert!(row.contains("dof fit"), "{row}");
+    assert!(table.contains("1. Bushing `B` is, along its x axis, 2.50× stiffer"), "{table}");
+    // The lateral run's landmarks (65 steps) against the bump's K&C (57).
+    let (code, _, err) = axle(&[
+        "diagnose",
+        "examples/mcpherson.axle",
+        "--kc",
+        &kc[0],
+        "--landmarks",
+        &lm[1],
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("error[E1305]") && err.contains("the landmarks hold step 58"),
+        "{err}"
+    );
+    assert!(err.contains("lm_lateral_landmarks.csv:"), "{err}");
+    // Two K&C paths and one landmark file: which path it belongs to is unknown.
+    let (code, _, err) = axle(&[
+        "diagnose",
+        "examples/mcpherson.axle",
+        "--kc",
+        &kc[0],
+        &kc[1],
+        "--landmarks",
+        &lm[0],
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("error[E1306]") && err.contains("1 landmark files for 2 K&C files"), "{err}");
+}
