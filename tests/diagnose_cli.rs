@@ -202,6 +202,12 @@ fn landmarks_are_a_channel_and_must_come_from_the_same_run() {
         .find(|l| l.trim_start().starts_with("landmarks_mm"))
         .unwrap_or_else(|| panic!("no landmark row: {table}"));
     assert!(row.contains("dof fit"), "{row}");
+    // B stiffer along x moves the wheel fore and aft (wc_x is the channel it
+    // changes most): the worst landmark is on the upright, along x.
+    assert!(
+        table.contains("lm_bump: landmark error (largest on `upright.") && table.contains("`, along x)"),
+        "{table}"
+    );
     assert!(table.contains("1. Bushing `B` is, along its x axis, 2.50× stiffer"), "{table}");
     // The lateral run's landmarks (65 steps) against the bump's K&C (57).
     let (code, _, err) = axle(&[

@@ -36,6 +36,8 @@ pub struct RigPath {
     /// What the landmarks' rigid pose fits left: the sum of squared
     /// residuals (mm²) and its degrees of freedom, for the landmark noise.
     pub pose_fit: PoseFitResidual,
+    /// `part.landmark` of every landmark of the model, by id (for words).
+    pub landmark_names: Vec<String>,
 }
 
 /// The residual of the pose fits of a path's landmarks.
@@ -75,6 +77,11 @@ pub fn read(model: &Model, file: FileId, name: &str, text: &str) -> Result<RigPa
         wheel,
         steps,
         pose_fit: PoseFitResidual::default(),
+        landmark_names: model
+            .landmarks
+            .iter()
+            .map(|l| format!("{}.{}", model.part(l.part).name, l.name))
+            .collect(),
     })
 }
 

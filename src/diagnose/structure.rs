@@ -1,5 +1,6 @@
 //! The structure of a model's residuals along each measured path, in words:
-//! per channel whose error exceeds twice its noise, whether it is an offset,
+//! per channel whose error exceeds twice its noise (for the landmarks, the
+//! worst landmark along its worst coordinate), whether it is an offset,
 //! a slope or a curvature against the path's main load (the least-squares
 //! fit of `a + b x + c x²` on the load scaled to [-1, 1]: the term with the
 //! largest share of the fitted variation), whether loading and unloading
@@ -28,86 +29,144 @@ pub struct Pattern {
     pub sentence: String,
 }
 
-/// The patterns of `replay` against the rig.
+/// The patterns of `replay` against the rig: per path, each K&C channel
+/// whose error exceeds twice its noise, and the landmark whose error is
+/// largest (described along its worst coordinate).
 pub fn patterns(rig: &[RigPath], replay: &Replay, noise: &Noise) -> Vec<Pattern> {
     let mut out = Vec::new();
     for (p, path) in rig.iter().enumerate() {
         let (load, x) = path.main_load();
-        let (lo, hi) = x
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-                (a.min(v), b.max(v))
-            });
-        if x.len() < 4 || hi - lo <= 0.0 {
-            continue;
-        }
-        let t: Vec<f64> = x.iter().map(|v| 2.0 * (v - lo) / (hi - lo) - 1.0).collect();
         for c in Channel::KC {
             let r: Vec<f64> = replay.paths[p]
                 .iter()
                 .zip(&path.steps)
                 .map(|(s, m)| s[c.index()] - m.measured[c.index()])
                 .collect();
-            let rms = (r.iter().map(|v| v * v).sum::<f64>() / r.len() as f64).sqrt();
+            let what = format!("{} error", c.words());
             let sigma = noise[c.index()].sigma;
-            if rms <= 2.0 * sigma {
-                continue;
-            }
-            let a = DMatrix::from_fn(r.len(), 3, |i, j| t[i].powi(j as i32));
-            let coef = a
-                .clone()
-                .svd(true, true)
-                .solve(&DVector::from_column_slice(&r), 1e-12)
-                .unwrap_or_else(|_| DVector::zeros(3));
-            // Share of each term: its RMS over the path.
-            let share: Vec<f64> = (0..3)
-                .map(|j| {
-                    (t.iter()
-                        .map(|v| (coef[j] * v.powi(j as i32)).powi(2))
-                        .sum::<f64>()
-                        / t.len() as f64)
-                        .sqrt()
-                })
-                .collect();
-            let shape = ["offset", "slope", "curvature"][(0..3)
-                .max_by(|&a, &b| share[a].total_cmp(&share[b]))
-                .unwrap_or(0)];
-            let hysteresis = gap(&x, &r).filter(|g| g.abs() > 2.0 * sigma);
-            let worst = (0..r.len())
-                .max_by(|&a, &b| r[a].abs().total_cmp(&r[b].abs()))
-                .unwrap_or(0);
-            let mut sentence = format!(
-                "{}: {} error {} {} RMS, mostly {} against {load}, largest at {load} = {:.0} N",
-                path.name,
-                c.words(),
-                super::words::num(rms),
-                c.unit(),
-                match shape {
-                    "offset" => "an offset",
-                    "slope" => "a slope",
-                    _ => "a curvature",
-                },
-                x[worst]
-            );
-            if let Some(g) = hysteresis {
-                sentence += &format!(
-                    "; loading and unloading differ by {} {} (hysteresis)",
-                    super::words::num(g.abs()),
-                    c.unit()
-                );
-            }
-            out.push(Pattern {
-                path: path.name.clone(),
-                channel: c,
-                rms,
-                shape,
-                hysteresis,
-                worst_at: (load, x[worst]),
-                sentence,
-            });
+            out.extend(describe(&path.name, c, &what, load, &x, &r, sigma));
+        }
+        if let Some((name, axis, xs, r)) = worst_landmark(path, &replay.landmarks[p], &x) {
+            let what = format!("landmark error (largest on `{name}`, along {axis})");
+            let sigma = noise[Channel::Landmarks.index()].sigma;
+            out.extend(describe(&path.name, Channel::Landmarks, &what, load, &xs, &r, sigma));
         }
     }
     out
+}
+
+/// The landmark of `path` with the largest RMS residual: its name, its
+/// worst coordinate, and the loads and signed residuals along it at the
+/// steps that measured it.
+fn worst_landmark(
+    path: &RigPath,
+    simulated: &[Vec<crate::geom::Vec3>],
+    x: &[f64],
+) -> Option<(String, &'static str, Vec<f64>, Vec<f64>)> {
+    use std::collections::BTreeMap;
+    let mut by: BTreeMap<crate::model::LandmarkId, Vec<(f64, crate::geom::Vec3)>> =
+        BTreeMap::new();
+    for ((step, sim), &load) in path.steps.iter().zip(simulated).zip(x) {
+        for ((l, m), s) in step.landmarks.iter().zip(sim) {
+            by.entry(*l).or_default().push((load, s - m));
+        }
+    }
+    let ms = |v: &[(f64, crate::geom::Vec3)]| {
+        v.iter().map(|(_, d)| d.norm_squared()).sum::<f64>() / v.len().max(1) as f64
+    };
+    let (l, v) = by.into_iter().max_by(|a, b| ms(&a.1).total_cmp(&ms(&b.1)))?;
+    let axis = (0..3)
+        .max_by(|&a, &b| {
+            let s = |k: usize| v.iter().map(|(_, d)| d[k] * d[k]).sum::<f64>();
+            s(a).total_cmp(&s(b))
+        })
+        .unwrap_or(0);
+    let name = path
+        .landmark_names
+        .get(l.index())
+        .cloned()
+        .unwrap_or_default();
+    Some((
+        name,
+        ["x", "y", "z"][axis],
+        v.iter().map(|(x, _)| *x).collect(),
+        v.iter().map(|(_, d)| d[axis]).collect(),
+    ))
+}
+
+/// The pattern of one residual series `r` against the loads `x`, when its
+/// RMS exceeds twice `sigma`.
+fn describe(
+    path: &str,
+    c: Channel,
+    what: &str,
+    load: &'static str,
+    x: &[f64],
+    r: &[f64],
+    sigma: f64,
+) -> Option<Pattern> {
+    let (lo, hi) = x
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    if x.len() < 4 || hi - lo <= 0.0 {
+        return None;
+    }
+    let rms = (r.iter().map(|v| v * v).sum::<f64>() / r.len() as f64).sqrt();
+    if rms <= 2.0 * sigma {
+        return None;
+    }
+    let t: Vec<f64> = x.iter().map(|v| 2.0 * (v - lo) / (hi - lo) - 1.0).collect();
+    let a = DMatrix::from_fn(r.len(), 3, |i, j| t[i].powi(j as i32));
+    let coef = a
+        .svd(true, true)
+        .solve(&DVector::from_column_slice(r), 1e-12)
+        .unwrap_or_else(|_| DVector::zeros(3));
+    // Share of each term: its RMS over the path.
+    let share: Vec<f64> = (0..3)
+        .map(|j| {
+            (t.iter()
+                .map(|v| (coef[j] * v.powi(j as i32)).powi(2))
+                .sum::<f64>()
+                / t.len() as f64)
+                .sqrt()
+        })
+        .collect();
+    let shape = ["offset", "slope", "curvature"][(0..3)
+        .max_by(|&a, &b| share[a].total_cmp(&share[b]))
+        .unwrap_or(0)];
+    let hysteresis = gap(x, r).filter(|g| g.abs() > 2.0 * sigma);
+    let worst = (0..r.len())
+        .max_by(|&a, &b| r[a].abs().total_cmp(&r[b].abs()))
+        .unwrap_or(0);
+    let mut sentence = format!(
+        "{path}: {what} {} {} RMS, mostly {} against {load}, largest at {load} = {:.0} N",
+        super::words::num(rms),
+        c.unit(),
+        match shape {
+            "offset" => "an offset",
+            "slope" => "a slope",
+            _ => "a curvature",
+        },
+        x[worst]
+    );
+    if let Some(g) = hysteresis {
+        sentence += &format!(
+            "; loading and unloading differ by {} {} (hysteresis)",
+            super::words::num(g.abs()),
+            c.unit()
+        );
+    }
+    Some(Pattern {
+        path: path.to_string(),
+        channel: c,
+        rms,
+        shape,
+        hysteresis,
+        worst_at: (load, x[worst]),
+        sentence,
+    })
 }
 
 /// The mean residual of the unloading steps less that of the loading steps

@@ -3,7 +3,8 @@
 //! channel, the ranked hypotheses, and per measured path and channel the
 //! measured, nominal and extended curves against the path's main load, the
 //! loading branches drawn solid and the unloading ones dashed (friction
-//! makes them differ).
+//! makes them differ); with landmarks, their RMS residual per step, nominal
+//! and extended.
 
 use crate::diagnose::channel::Channel;
 use crate::diagnose::replay::Replay;
@@ -68,9 +69,48 @@ fn polyline(o: &mut String, f: &Frame, x: &[f64], y: &[f64], colour: &str, width
     }
 }
 
+/// A K&C channel of a path: measured points, nominal and extended curves.
 fn plot(p: &RigPath, c: Channel, nominal: &[f64], extended: &[f64]) -> String {
     let (load, x) = p.main_load();
     let measured: Vec<f64> = p.steps.iter().map(|s| s.measured[c.index()]).collect();
+    chart(c, load, &x, &measured, nominal, extended)
+}
+
+/// The landmarks of a path: the RMS residual (mm per coordinate) of the
+/// nominal and the extended model at each step that measured landmarks.
+fn landmark_plot(p: &RigPath, k: usize, d: &Diagnosis) -> Option<String> {
+    let (load, all) = p.main_load();
+    let rms = |r: &Replay, i: usize| {
+        let s = &p.steps[i];
+        let sum: f64 = r.landmarks[k][i]
+            .iter()
+            .zip(&s.landmarks)
+            .map(|(x, (_, m))| (x - m).norm_squared())
+            .sum();
+        (sum / (3 * s.landmarks.len()) as f64).sqrt()
+    };
+    let at: Vec<usize> = (0..p.steps.len())
+        .filter(|&i| !p.steps[i].landmarks.is_empty())
+        .collect();
+    if at.len() < 2 {
+        return None;
+    }
+    let x: Vec<f64> = at.iter().map(|&i| all[i]).collect();
+    let nominal: Vec<f64> = at.iter().map(|&i| rms(&d.nominal, i)).collect();
+    let extended: Vec<f64> = at.iter().map(|&i| rms(&d.replay, i)).collect();
+    Some(chart(Channel::Landmarks, load, &x, &[], &nominal, &extended))
+}
+
+/// One chart against the path's main load `x`: measured points (none for a
+/// residual chart), the nominal (grey) and extended (red) curves.
+fn chart(
+    c: Channel,
+    load: &str,
+    x: &[f64],
+    measured: &[f64],
+    nominal: &[f64],
+    extended: &[f64],
+) -> String {
     let all = measured.iter().chain(nominal).chain(extended).cloned();
     let (mut y0, mut y1) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
         (a.min(v), b.max(v))
@@ -126,9 +166,9 @@ fn plot(p: &RigPath, c: Channel, nominal: &[f64], extended: &[f64]) -> String {
         c.name(),
         c.unit()
     );
-    polyline(&mut o, &f, &x, nominal, "#999", 1.2);
-    polyline(&mut o, &f, &x, extended, "#c0392b", 1.6);
-    for (k, (&xv, &yv)) in x.iter().zip(&measured).enumerate() {
+    polyline(&mut o, &f, x, nominal, "#999", 1.2);
+    polyline(&mut o, &f, x, extended, "#c0392b", 1.6);
+    for (k, (&xv, &yv)) in x.iter().zip(measured).enumerate() {
         let up = k == 0 || xv >= x[k - 1];
         let fill = if up { "#1f4e99" } else { "none" };
         let _ = write!(
@@ -228,6 +268,9 @@ pub fn page(model: &Model, rig: &[RigPath], d: &Diagnosis) -> String {
         let _ = write!(o, "<h3>{}</h3><div class=\"plots\">", esc(&p.name));
         for c in Channel::KC {
             o += &plot(p, c, &series(&d.nominal, k, c), &series(&d.replay, k, c));
+        }
+        if let Some(svg) = landmark_plot(p, k, d) {
+            o += &svg;
         }
         o += "</div>";
     }
