@@ -333,6 +333,9 @@ fn round(
                 detail: c.detail.clone(),
                 why: match e {
                     FitFailure::Edit(w) => w,
+                    FitFailure::NotConverged { iterations } => format!(
+                        "the fit did not converge in {iterations} iterations (no value is given for it)"
+                    ),
                     FitFailure::Start(r) => format!(
                         "did not solve at step {} of path {}: {}",
                         r.step + 1,

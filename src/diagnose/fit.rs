@@ -46,7 +46,14 @@ pub enum FitFailure {
     Edit(String),
     /// The model did not solve at the start.
     Start(ReplayError),
+    /// The search still improved after its last iteration: its point is
+    /// not a minimum, so no value or interval of it is a finding.
+    NotConverged { iterations: usize },
 }
+
+/// Levenberg–Marquardt iterations before a fit that still improves is
+/// given up as not converged.
+const MAX_ITERATIONS: usize = 30;
 
 fn cost(r: &[f64]) -> f64 {
     r.iter().map(|v| v * v).sum()
@@ -74,7 +81,8 @@ pub fn fit(
     let mut c = cost(&ev.r);
     let mut mu = 1e-3;
     let mut iterations = 0;
-    while iterations < 30 {
+    let mut converged = false;
+    while iterations < MAX_ITERATIONS {
         iterations += 1;
         let rv = DVector::from_column_slice(&ev.r);
         let h = ev.j.transpose() * &ev.j;
@@ -82,6 +90,7 @@ pub fn fit(
         let pinned = pinned(&x, &g, cand);
         if pinned.iter().all(|&p| p) {
             // Every parameter on a bound the data push against: no move left.
+            converged = true;
             break;
         }
         let (h, g) = free(&h, &g, &pinned);
@@ -144,8 +153,12 @@ pub fn fit(
             }
         }
         if !improved {
+            converged = true;
             break;
         }
+    }
+    if !converged {
+        return Err(FitFailure::NotConverged { iterations });
     }
     let dof = (ev.r.len() as f64 - x.len() as f64).max(1.0);
     let misfit = (c / dof).max(1.0);

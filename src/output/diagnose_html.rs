@@ -73,7 +73,8 @@ fn polyline(o: &mut String, f: &Frame, x: &[f64], y: &[f64], colour: &str, width
 fn plot(p: &RigPath, c: Channel, nominal: &[f64], extended: &[f64]) -> String {
     let (load, x) = p.main_load();
     let measured: Vec<f64> = p.steps.iter().map(|s| s.measured[c.index()]).collect();
-    chart(c, load, &x, &measured, nominal, extended)
+    let title = format!("{} ({})", c.name(), c.unit());
+    chart(&title, load, &x, &measured, nominal, extended)
 }
 
 /// The landmarks of a path: the RMS residual (mm per coordinate) of the
@@ -98,13 +99,20 @@ fn landmark_plot(p: &RigPath, k: usize, d: &Diagnosis) -> Option<String> {
     let x: Vec<f64> = at.iter().map(|&i| all[i]).collect();
     let nominal: Vec<f64> = at.iter().map(|&i| rms(&d.nominal, i)).collect();
     let extended: Vec<f64> = at.iter().map(|&i| rms(&d.replay, i)).collect();
-    Some(chart(Channel::Landmarks, load, &x, &[], &nominal, &extended))
+    Some(chart(
+        "landmark residual, RMS per coordinate (mm)",
+        load,
+        &x,
+        &[],
+        &nominal,
+        &extended,
+    ))
 }
 
 /// One chart against the path's main load `x`: measured points (none for a
 /// residual chart), the nominal (grey) and extended (red) curves.
 fn chart(
-    c: Channel,
+    title: &str,
     load: &str,
     x: &[f64],
     measured: &[f64],
@@ -160,11 +168,10 @@ fn chart(
     }
     let _ = write!(
         o,
-        r#"<text x="{:.1}" y="{}" text-anchor="middle">{load} (N)</text><text x="{L}" y="9">{} ({})</text>"#,
+        r#"<text x="{:.1}" y="{}" text-anchor="middle">{load} (N)</text><text x="{L}" y="9">{}</text>"#,
         L + (W - L) / 2.0,
         H - 4.0,
-        c.name(),
-        c.unit()
+        esc(title)
     );
     polyline(&mut o, &f, x, nominal, "#999", 1.2);
     polyline(&mut o, &f, x, extended, "#c0392b", 1.6);
