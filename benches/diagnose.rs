@@ -73,7 +73,14 @@ fn with_landmarks() -> (Model, Vec<RigPath>) {
             }
         })
         .collect();
-    attach(&sources, &nominal, &mut rig, &files, &mut Remarks::default()).expect("joins");
+    attach(
+        &sources,
+        &nominal,
+        &mut rig,
+        &files,
+        &mut Remarks::default(),
+    )
+    .expect("joins");
     (nominal, rig)
 }
 

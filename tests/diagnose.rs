@@ -8,16 +8,16 @@
 //! assertions.
 
 use axle::diagnose::channel::Channel;
-use axle::diagnose::rig::{RigPath, read};
 use axle::diagnose::noise::Source;
+use axle::diagnose::rig::{RigPath, read};
 use axle::diagnose::{Diagnosis, Kind, Options, diagnose, landmarks, words};
-use axle::measure::inputs::{LandmarkFile, LandmarkFormat, Remarks};
-use axle::measure::synthetic::landmarks_csv;
-use axle::source::SourceMap;
 use axle::edit::{Edit, Why, apply};
+use axle::measure::inputs::{LandmarkFile, LandmarkFormat, Remarks};
 use axle::measure::synthetic::kc_csv;
+use axle::measure::synthetic::landmarks_csv;
 use axle::model::address::Address;
 use axle::model::{Model, Stop, StopKind, StopLaw, Val};
+use axle::source::SourceMap;
 use axle::span::FileId;
 
 fn model(text: &str) -> Model {
@@ -52,8 +52,8 @@ fn rig_with_landmarks(nominal: &Model, truth: &Model, seed: u64) -> Vec<RigPath>
         .enumerate()
         .map(|(k, name)| {
             let set = truth.load_set_named(name).expect("sweep");
-            let csv = landmarks_csv(truth, set, 0.05, seed * 10 + 5 + k as u64)
-                .expect("truth solves");
+            let csv =
+                landmarks_csv(truth, set, 0.05, seed * 10 + 5 + k as u64).expect("truth solves");
             LandmarkFile {
                 id: sources.add(format!("{name}_landmarks.csv"), csv),
                 format: LandmarkFormat::Csv,

@@ -205,10 +205,14 @@ fn landmarks_are_a_channel_and_must_come_from_the_same_run() {
     // B stiffer along x moves the wheel fore and aft (wc_x is the channel it
     // changes most): the worst landmark is on the upright, along x.
     assert!(
-        table.contains("lm_bump: landmark error (largest on `upright.") && table.contains("`, along x)"),
+        table.contains("lm_bump: landmark error (largest on `upright.")
+            && table.contains("`, along x)"),
         "{table}"
     );
-    assert!(table.contains("1. Bushing `B` is, along its x axis, 2.50× stiffer"), "{table}");
+    assert!(
+        table.contains("1. Bushing `B` is, along its x axis, 2.50× stiffer"),
+        "{table}"
+    );
     // The lateral run's landmarks (65 steps) against the bump's K&C (57).
     let (code, _, err) = axle(&[
         "diagnose",
@@ -235,5 +239,8 @@ fn landmarks_are_a_channel_and_must_come_from_the_same_run() {
         &lm[0],
     ]);
     assert_eq!(code, 1, "{err}");
-    assert!(err.contains("error[E1306]") && err.contains("1 landmark files for 2 K&C files"), "{err}");
+    assert!(
+        err.contains("error[E1306]") && err.contains("1 landmark files for 2 K&C files"),
+        "{err}"
+    );
 }

@@ -13,12 +13,12 @@
 //! library's, so a run is the same on any number of cores.
 
 use super::candidate::{CandParam, Candidate, Ranges, Scale, library};
+use super::channel::Channel;
 use super::channel::PerChannel;
 use super::fit::{FitFailure, Fitted, fit};
 use super::holdout::{Subset, count};
 use super::kind::Kind;
 use super::noise::{self, Noise};
-use super::channel::Channel;
 use super::replay::{Replay, ReplayError, channels_of, designs, replay_states, residual_count};
 use super::rig::RigPath;
 use super::screen::{Screened, screen, screen_at_nominal};

@@ -11,10 +11,10 @@
 use super::Context;
 use super::candidate::{CandParam, Candidate, Scale};
 use super::channel::{self, Channel};
-use super::landmarks::simulated;
-use super::rig::RigStep;
 use super::holdout::Subset;
+use super::landmarks::simulated;
 use super::replay::{Replay, ReplayError, replay, step_residuals};
+use super::rig::RigStep;
 use crate::model::{ElementId, Model, PointLoad, WheelId};
 use crate::statics::path::Simulator;
 use crate::statics::{CaseSensitivity, Parameter, Problem, State};

@@ -86,7 +86,10 @@ fn attach_to(
     let steps = data.fit(sources, model, MATCH_TOLERANCE, remarks);
     if steps.is_empty() {
         return Err(data.step(&steps, None).err().unwrap_or_else(|| {
-            Diagnostic::error("E0807", format!("no step of {} gives a part pose", data.shown()))
+            Diagnostic::error(
+                "E0807",
+                format!("no step of {} gives a part pose", data.shown()),
+            )
         }));
     }
     let mut fit = PoseFitResidual::default();

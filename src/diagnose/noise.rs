@@ -71,24 +71,34 @@ fn landmark_noise(paths: &[RigPath], floor: f64) -> ChannelNoise {
             source: Source::Absent,
         };
     }
-    let (sum_sq, dof) = paths
-        .iter()
-        .fold((0.0, 0), |(s, d), p| (s + p.pose_fit.sum_sq, d + p.pose_fit.dof));
-    let sigma = if dof > 0 { (sum_sq / dof as f64).sqrt() } else { 0.0 };
-    if sigma < floor || dof == 0 {
-        ChannelNoise {
-            sigma: floor,
-            source: Source::Floor,
-        }
+    let (sum_sq, dof) = paths.iter().fold((0.0, 0), |(s, d), p| {
+        (s + p.pose_fit.sum_sq, d + p.pose_fit.dof)
+    });
+    let sigma = if dof > 0 {
+        (sum_sq / dof as f64).sqrt()
     } else {
-        ChannelNoise {
-            sigma,
-            source: Source::Estimated(dof),
-        }
-    }
+        0.0
+    };
+    ChannelNoise::floored(sigma, dof, floor)
 }
 
 impl ChannelNoise {
+    /// An estimate from `n` values, or the floor when it is below it (or
+    /// there was nothing to estimate from).
+    fn floored(sigma: f64, n: usize, floor: f64) -> ChannelNoise {
+        if n == 0 || sigma.is_nan() || sigma < floor {
+            ChannelNoise {
+                sigma: floor,
+                source: Source::Floor,
+            }
+        } else {
+            ChannelNoise {
+                sigma,
+                source: Source::Estimated(n),
+            }
+        }
+    }
+
     /// Whether the channel was measured at all.
     pub fn present(&self) -> bool {
         self.source != Source::Absent
@@ -115,18 +125,7 @@ pub fn estimate(series: &[Vec<f64>], floor: f64) -> ChannelNoise {
     } else {
         0.5 * (d[n / 2 - 1] + d[n / 2])
     };
-    let sigma = 1.4826 * median / 6f64.sqrt();
-    if sigma < floor {
-        ChannelNoise {
-            sigma: floor,
-            source: Source::Floor,
-        }
-    } else {
-        ChannelNoise {
-            sigma,
-            source: Source::Estimated(n),
-        }
-    }
+    ChannelNoise::floored(1.4826 * median / 6f64.sqrt(), n, floor)
 }
 
 /// K&C channel values weighted by their noise.

@@ -6,8 +6,8 @@
 //! ([`super::holdout`]).
 
 use super::channel::{self, Channel, Design, Measured, PerChannel};
-use super::landmarks::simulated;
 use super::holdout::Subset;
+use super::landmarks::simulated;
 use super::noise::{Noise, weighted};
 use super::rig::{RigPath, RigStep};
 use crate::geom::Vec3;

@@ -7,8 +7,8 @@ use super::channel::{self, Measured};
 use crate::data::table;
 use crate::diagnostic::Diagnostic;
 use crate::diagnostic::suggest::did_you_mean;
-use crate::identify::measured::{kc_channels, loads_of_file};
 use crate::geom::Vec3;
+use crate::identify::measured::{kc_channels, loads_of_file};
 use crate::model::{LandmarkId, Model, PointLoad, WheelId};
 use crate::span::{FileId, Span};
 

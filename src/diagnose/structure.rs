@@ -49,7 +49,15 @@ pub fn patterns(rig: &[RigPath], replay: &Replay, noise: &Noise) -> Vec<Pattern>
         if let Some((name, axis, xs, r)) = worst_landmark(path, &replay.landmarks[p], &x) {
             let what = format!("landmark error (largest on `{name}`, along {axis})");
             let sigma = noise[Channel::Landmarks.index()].sigma;
-            out.extend(describe(&path.name, Channel::Landmarks, &what, load, &xs, &r, sigma));
+            out.extend(describe(
+                &path.name,
+                Channel::Landmarks,
+                &what,
+                load,
+                &xs,
+                &r,
+                sigma,
+            ));
         }
     }
     out
@@ -64,8 +72,7 @@ fn worst_landmark(
     x: &[f64],
 ) -> Option<(String, &'static str, Vec<f64>, Vec<f64>)> {
     use std::collections::BTreeMap;
-    let mut by: BTreeMap<crate::model::LandmarkId, Vec<(f64, crate::geom::Vec3)>> =
-        BTreeMap::new();
+    let mut by: BTreeMap<crate::model::LandmarkId, Vec<(f64, crate::geom::Vec3)>> = BTreeMap::new();
     for ((step, sim), &load) in path.steps.iter().zip(simulated).zip(x) {
         for ((l, m), s) in step.landmarks.iter().zip(sim) {
             by.entry(*l).or_default().push((load, s - m));
@@ -74,7 +81,9 @@ fn worst_landmark(
     let ms = |v: &[(f64, crate::geom::Vec3)]| {
         v.iter().map(|(_, d)| d.norm_squared()).sum::<f64>() / v.len().max(1) as f64
     };
-    let (l, v) = by.into_iter().max_by(|a, b| ms(&a.1).total_cmp(&ms(&b.1)))?;
+    let (l, v) = by
+        .into_iter()
+        .max_by(|a, b| ms(&a.1).total_cmp(&ms(&b.1)))?;
     let axis = (0..3)
         .max_by(|&a, &b| {
             let s = |k: usize| v.iter().map(|(_, d)| d[k] * d[k]).sum::<f64>();

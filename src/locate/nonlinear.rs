@@ -194,6 +194,17 @@ mod tests {
     use super::*;
     use crate::geom::euler_zxz;
 
+    /// `rels` with seeded noise of deviation `sigma` mm on each translation.
+    fn noisy(rels: &[Rel], noise: &mut crate::measure::synthetic::Noise, sigma: f64) -> Vec<Rel> {
+        rels.iter()
+            .map(|r| Rel {
+                rotation: r.rotation,
+                translation: r.translation
+                    + Vec3::new(noise.normal(), noise.normal(), noise.normal()) * sigma,
+            })
+            .collect()
+    }
+
     fn strut_motion() -> (Vec3, Vec3, Vec<Rel>) {
         // Part 2 rotates about a point p and slides along the line through p along `a`.
         let p = Vec3::new(-73.7, 594.7, 762.6);
@@ -243,14 +254,7 @@ mod tests {
         let mut noise = crate::measure::synthetic::Noise::new(7);
         let mut tilts = Vec::new();
         for _ in 0..200 {
-            let noisy: Vec<Rel> = rels
-                .iter()
-                .map(|r| Rel {
-                    rotation: r.rotation,
-                    translation: r.translation
-                        + Vec3::new(noise.normal(), noise.normal(), noise.normal()) * sigma,
-                })
-                .collect();
+            let noisy = noisy(&rels, &mut noise, sigma);
             let found = strut_top(&noisy, &p, sigma).axis.expect("axis");
             let found = if found.dot(&a) < 0.0 { -found } else { found };
             tilts.push(nalgebra::Vector2::new(e1.dot(&found), e2.dot(&found)));
@@ -276,14 +280,7 @@ mod tests {
         let mut noise = crate::measure::synthetic::Noise::new(3);
         let mut found = Vec::new();
         for _ in 0..60 {
-            let noisy: Vec<Rel> = rels
-                .iter()
-                .map(|r| Rel {
-                    rotation: r.rotation,
-                    translation: r.translation
-                        + Vec3::new(noise.normal(), noise.normal(), noise.normal()) * sigma,
-                })
-                .collect();
+            let noisy = noisy(&rels, &mut noise, sigma);
             found.push(strut_top(&noisy, &p, sigma).center);
         }
         let mean = found.iter().sum::<Vec3>() / found.len() as f64;
