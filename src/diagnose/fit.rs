@@ -9,7 +9,7 @@
 
 use super::Context;
 use super::candidate::Candidate;
-use super::jacobian::{evaluate, residuals};
+use super::jacobian::{by_differences, evaluate, residuals};
 use super::replay::{Replay, ReplayError, search_simulator};
 use crate::model::Model;
 use crate::statics::path::Simulator;
@@ -118,7 +118,9 @@ pub fn fit(
                 evaluate(ctx, cand, &extended, &xn, &mut sim)
             } else {
                 match residuals(ctx, cand, &extended, &xn, &mut sim) {
-                    Ok((r, _, _)) if cost(&r) < c => evaluate(ctx, cand, &extended, &xn, &mut sim),
+                    Ok(at) if cost(&at.0) < c => {
+                        Ok(by_differences(ctx, cand, &extended, &xn, at, &mut sim))
+                    }
                     Ok((r, replay, model)) => Ok(super::jacobian::Evaluation {
                         r,
                         j: DMatrix::zeros(0, 0),

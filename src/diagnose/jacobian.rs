@@ -77,7 +77,9 @@ pub fn evaluate(
 ) -> Result<Evaluation, ReplayError> {
     let m = cand.at(extended, x);
     if !m.frictions.is_empty() {
-        return by_differences(ctx, cand, extended, x, m, sim);
+        let rp = replay(&m, ctx.rig, ctx.designs, sim)?;
+        let r = rp.residuals(ctx.rig, ctx.noise, &Subset::Training);
+        return Ok(by_differences(ctx, cand, extended, x, (r, rp, m), sim));
     }
     let problem = Problem::new(&m).map_err(|error| ReplayError {
         path: 0,
@@ -194,17 +196,18 @@ fn value_derivatives(
     out
 }
 
-/// Forward differences of whole replays (friction in the model).
-fn by_differences(
+/// The Jacobian by forward differences of whole replays (friction in the
+/// model), around the point `x` whose residuals, replay and model are `at`
+/// (already computed by the caller: a trial point the search accepts).
+pub fn by_differences(
     ctx: &Context,
     cand: &Candidate,
     extended: &Model,
     x: &[f64],
-    m: Model,
+    at: (Vec<f64>, Replay, Model),
     sim: &mut Simulator,
-) -> Result<Evaluation, ReplayError> {
-    let rp = replay(&m, ctx.rig, ctx.designs, sim)?;
-    let r = rp.residuals(ctx.rig, ctx.noise, &Subset::Training);
+) -> Evaluation {
+    let (r, rp, m) = at;
     let mut j = DMatrix::zeros(r.len(), x.len());
     for i in 0..x.len() {
         let p = &cand.params[i];
@@ -227,12 +230,12 @@ fn by_differences(
             }
         }
     }
-    Ok(Evaluation {
+    Evaluation {
         r,
         j,
         replay: rp,
         model: m,
-    })
+    }
 }
 
 /// Only the residuals and replay (a trial step), without the Jacobian.
