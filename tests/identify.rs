@@ -58,7 +58,7 @@ fn single_bushing_all_six_from_one_case() {
         let (_, p) = param(&r, name);
         let v = p
             .value
-            .unwrap_or_else(|| panic!("{name} not identified: {:?}", p.note));
+            .unwrap_or_else(|| panic!("{name} not identified: {:?}", p.notes));
         assert!(rel(v, truth) < 1e-7, "{name}: {v} vs {truth}");
     }
     assert!(r.combinations.is_empty());
@@ -83,7 +83,7 @@ fn slider_crank_only_k_x() {
                 un.names[0],
                 p
             );
-            assert!(p.note.is_some());
+            assert!(!p.notes.is_empty());
         }
     }
     // One equation per step (18 coordinates, constraint rank 17).

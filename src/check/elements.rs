@@ -4,26 +4,25 @@ use super::Checker;
 use super::error;
 use super::props::Props;
 use crate::diagnostic::Diagnostic;
+use crate::model::schema::{self, FieldId, FieldSpec, Kind};
 use crate::model::*;
 use crate::span::Span;
 use crate::syntax::ast::{ElementDecl, ElementKw, File, ItemKind};
-use crate::units::Dim;
 use std::collections::BTreeMap;
 
 const JOINT_PROPS: &[&str] = &["i", "j"];
-const SPRING_PROPS: &[&str] = &["i", "j", "k", "free_length", "preload", "law"];
-const STOP_PROPS: &[&str] = &["i", "j", "contact_length", "k", "poly", "law"];
 const WHEEL_PROPS: &[&str] = &["centre", "center", "contact"];
 
 /// The property names the checker accepts in an element of this kind (for
-/// completion; the checker itself reads the same lists).
+/// completion; the checker itself reads the same lists: the element kind's
+/// schema where it has one).
 pub fn properties(kw: ElementKw) -> Vec<&'static str> {
     match kw {
         ElementKw::Joint => JOINT_PROPS.to_vec(),
-        ElementKw::Bushing => crate::model::schema::BUSHING.keys(),
-        ElementKw::Spring => SPRING_PROPS.to_vec(),
-        ElementKw::Stop => STOP_PROPS.to_vec(),
-        ElementKw::Friction => super::friction::FRICTION_PROPS.to_vec(),
+        ElementKw::Bushing => schema::BUSHING.keys(),
+        ElementKw::Spring => schema::SPRING.keys(),
+        ElementKw::Stop => schema::STOP.keys(),
+        ElementKw::Friction => schema::FRICTION.keys(),
         ElementKw::Wheel => WHEEL_PROPS.to_vec(),
     }
 }
@@ -138,10 +137,24 @@ impl Checker {
     }
 
     fn spring(&mut self, e: &ElementDecl) {
-        let props = self.props("spring", e, SPRING_PROPS);
+        let keys = schema::SPRING.keys();
+        let props = self.props("spring", e, &keys);
         let ij = self.ij(&props);
+        let field = |id| schema::SPRING.field(id);
+        // The key of a scalar field (`k`), and the line a missing one would be.
+        let key = |s: &FieldSpec| s.keys[0];
+        let missing = |s: &FieldSpec| format!("{} {}", key(s), s.example);
+        let (rate, free, pre) = (
+            field(FieldId::SpringK),
+            field(FieldId::FreeLength),
+            field(FieldId::SpringPreload),
+        );
+        // The rate's law says what a table law maps (the schema gives it one).
+        let Some(rate_law) = rate.law else {
+            return;
+        };
         let law = if let Some(p) = props.get("law") {
-            for other in ["k", "free_length", "preload"] {
+            for other in schema::SPRING.field_keys() {
                 if let Some(o) = props.get(other) {
                     self.problems.push(
                         Diagnostic::error(
@@ -156,38 +169,38 @@ impl Checker {
                     );
                 }
             }
-            self.prop_table(p, Dim::LENGTH, Dim::FORCE, false)
+            self.prop_table(p, rate_law.from, rate_law.to, false)
                 .map(SpringLaw::Table)
         } else {
-            let k = match props.get("k") {
+            let k = match props.get(key(rate)) {
                 Some(p) => self
-                    .prop_scalar(p, Dim::STIFFNESS, "30 N/mm")
-                    .map(|k| self.non_negative(k, &props, "k", p.value.span())),
+                    .prop_scalar(p, rate.dim, rate.example)
+                    .map(|k| self.non_negative(k, &props, rate.name, p.value.span())),
                 None => {
                     self.problems.push(error::missing_property(
                         "spring",
                         &e.name.name,
-                        "k",
+                        key(rate),
                         e.name.span,
-                        "k 30 N/mm",
+                        &missing(rate),
                     ));
                     None
                 }
             };
-            let free_length = props.get("free_length").map(|p| {
-                self.prop_scalar(p, Dim::LENGTH, "290 mm")
+            let free_length = props.get(key(free)).map(|p| {
+                self.prop_scalar(p, free.dim, free.example)
                     .and_then(|v| self.positive_length(v, &props, p))
             });
             let preload = props
-                .get("preload")
-                .map(|p| self.prop_scalar(p, Dim::FORCE, "4800 N"));
+                .get(key(pre))
+                .map(|p| self.prop_scalar(p, pre.dim, pre.example));
             if free_length.is_none() && preload.is_none() {
                 self.problems.push(error::missing_property(
                     "spring",
                     &e.name.name,
-                    "free_length",
+                    key(free),
                     e.name.span,
-                    "free_length 290 mm",
+                    &missing(free),
                 ));
                 return;
             }
@@ -231,7 +244,11 @@ impl Checker {
     }
 
     fn stop(&mut self, e: &ElementDecl) {
-        let props = self.props("stop", e, STOP_PROPS);
+        let keys = schema::STOP.keys();
+        let props = self.props("stop", e, &keys);
+        let contact_spec = schema::STOP.field(FieldId::ContactLength);
+        let poly_spec = schema::STOP.field(FieldId::Coefficient(1));
+        let contact_key = contact_spec.keys[0];
         let kind = match e.kind.as_ref().map(|k| (k, k.name.as_str())) {
             Some((_, "compression")) => Some(StopKind::Compression),
             Some((_, "rebound")) => Some(StopKind::Rebound),
@@ -257,23 +274,28 @@ impl Checker {
             }
         };
         let ij = self.ij(&props);
-        let contact = match props.get("contact_length") {
+        let contact = match props.get(contact_key) {
             Some(p) => self
-                .prop_scalar(p, Dim::LENGTH, "120 mm")
+                .prop_scalar(p, contact_spec.dim, contact_spec.example)
                 .and_then(|v| self.positive_length(v, &props, p)),
             None => {
                 self.problems.push(error::missing_property(
                     "stop",
                     &e.name.name,
-                    "contact_length",
+                    contact_key,
                     e.name.span,
-                    "contact_length 120 mm",
+                    &format!("{contact_key} {}", contact_spec.example),
                 ));
                 None
             }
         };
-        let laws: Vec<&str> = ["k", "poly", "law"]
-            .into_iter()
+        // The law: `k` (degree 1) or `poly` (the polynomial field's keys), or
+        // a table `law` (a choice).
+        let laws: Vec<&str> = poly_spec
+            .keys
+            .iter()
+            .chain(schema::STOP.choices)
+            .copied()
             .filter(|k| props.has(k))
             .collect();
         if laws.len() != 1 {
@@ -288,17 +310,24 @@ impl Checker {
             );
             return;
         }
+        let Some(poly_law) = poly_spec.law else {
+            return;
+        };
         let law = match laws[0] {
             "k" => props.get("k").and_then(|p| {
-                self.prop_scalar(p, Dim::STIFFNESS, "500 N/mm").map(|k| {
-                    StopLaw::Polynomial(vec![self.non_negative(k, &props, "k", p.value.span())])
-                })
+                self.prop_scalar(p, poly_spec.dim, poly_spec.scalar_example())
+                    .map(|k| {
+                        StopLaw::Polynomial(vec![self.non_negative(k, &props, "k", p.value.span())])
+                    })
             }),
             "poly" => props.get("poly").and_then(|p| {
                 self.prop_list(
                     p,
-                    |n| Dim::new(-(n as i8) - 1, 1, 0),
-                    "[500 N/mm, 20 N/mm^2]",
+                    // Item n is the coefficient of degree n + 1.
+                    |n| {
+                        FieldId::Coefficient(u8::try_from(n + 1).unwrap_or(u8::MAX)).dim(Kind::Stop)
+                    },
+                    poly_spec.example,
                 )
                 .map(|c| {
                     for (n, v) in c.iter().enumerate() {
@@ -309,7 +338,7 @@ impl Checker {
                 })
             }),
             _ => props.get("law").and_then(|p| {
-                let t = self.prop_table(p, Dim::LENGTH, Dim::FORCE, true)?;
+                let t = self.prop_table(p, poly_law.from, poly_law.to, true)?;
                 self.stop_table_start(&t, p).then_some(StopLaw::Table(t))
             }),
         };

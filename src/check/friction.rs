@@ -9,10 +9,6 @@ use crate::model::{ElementId, Friction, FrictionId, FrictionMotion, JointId, Joi
 use crate::syntax::ast::{ElementDecl, ExprKind, Value};
 use crate::units::Dim;
 
-/// Every property of a friction element, in the order the printer writes
-/// them: the one list the checker (and the schema) reads.
-pub(super) const FRICTION_PROPS: &[&str] = &["joint", "kf", "limit", "motion"];
-
 /// The motion words of a friction element.
 const MOTIONS: [(&str, FrictionMotion); 2] = [
     ("slide", FrictionMotion::Slide),
@@ -49,7 +45,8 @@ pub fn motion_word(m: FrictionMotion) -> &'static str {
 impl Checker {
     /// Frictions are checked after every joint, so they may come before theirs.
     pub(super) fn friction(&mut self, e: &ElementDecl) {
-        let props = self.props("friction", e, FRICTION_PROPS);
+        let keys = crate::model::schema::FRICTION.keys();
+        let props = self.props("friction", e, &keys);
         let joint = self.friction_joint(&props);
         let motion = match props.get("motion") {
             None => joint.map(|j| default_motion(self.model.joints[j.index()].kind)),

@@ -186,3 +186,57 @@ fn unknown_parameters_keep_their_bounds_and_bind_elements() {
         AxisLaw::Table(_) => panic!("linear"),
     }
 }
+
+/// The E0105 diagnostics of `text`: (message, notes).
+fn unknown_properties(text: &str) -> Vec<(String, Vec<String>)> {
+    let (_, checked) = check_str("t.axle", text);
+    checked
+        .problems
+        .list
+        .iter()
+        .filter(|d| d.code == "E0105")
+        .map(|d| (d.message.clone(), d.notes.clone()))
+        .collect()
+}
+
+/// A spring, stop or friction accepts exactly the keys of its kind's schema,
+/// so a field added to the schema needs no second list in the checker: every
+/// schema key is accepted, and the note of an unknown key lists the schema's.
+#[test]
+fn springs_stops_and_frictions_accept_exactly_their_schema_keys() {
+    use crate::model::schema;
+    use crate::syntax::ast::ElementKw;
+    let head = "ground g {\n    marker o at (0, 0, 0) mm\n    marker s at (0, 0, 400) mm\n}\n\npart arm {\n    marker o at (0, 0, 0) mm\n}\n\njoint r revolute {\n    i g.o\n    j arm.o\n}\n\n";
+    for (kw, decl, s) in [
+        (ElementKw::Spring, "spring e {", &schema::SPRING),
+        (ElementKw::Stop, "stop e compression {", &schema::STOP),
+        (ElementKw::Friction, "friction e {", &schema::FRICTION),
+    ] {
+        let keys = s.keys();
+        assert_eq!(super::properties(kw), keys, "{}", s.keyword);
+        for key in &keys {
+            let text = format!("{head}{decl}\n    {key} 1 mm\n}}\n");
+            assert_eq!(unknown_properties(&text), vec![], "{} {key}", s.keyword);
+        }
+        let text = format!("{head}{decl}\n    no_such_key 1 mm\n}}\n");
+        let found = unknown_properties(&text);
+        assert_eq!(found.len(), 1, "{}", s.keyword);
+        let note = format!("{} properties: {}", s.keyword, keys.join(", "));
+        assert!(
+            found[0].1.contains(&note),
+            "{}: {:?}",
+            s.keyword,
+            found[0].1
+        );
+    }
+    // The lists the diagnostics have always shown.
+    assert_eq!(
+        schema::SPRING.keys(),
+        ["i", "j", "k", "free_length", "preload", "law"]
+    );
+    assert_eq!(
+        schema::STOP.keys(),
+        ["i", "j", "contact_length", "k", "poly", "law"]
+    );
+    assert_eq!(schema::FRICTION.keys(), ["joint", "kf", "limit", "motion"]);
+}

@@ -8,7 +8,7 @@
 use super::Exit;
 use crate::diagnostic::{Diagnostic, render};
 use crate::identify::measured::Measured;
-use crate::identify::{self, BoundIssue, FitNote, Identified};
+use crate::identify::{self, BoundIssue, FitNote, Identified, ParamNote};
 use crate::measure::inputs;
 use crate::source::SourceMap;
 use crate::units::{from_boundary, to_boundary};
@@ -300,7 +300,7 @@ pub fn to_json(r: &Identified) -> Value {
                     "unit": u.dim.boundary_unit(),
                     "interval": p.interval.map_or(Value::Null, |(lo, hi)| json!([num(b(lo)), num(b(hi))])),
                     "identifiable": p.identifiable,
-                    "note": p.note,
+                    "note": ParamNote::join(&p.notes),
             });
             // Only present when the value is at or beyond its declared bounds.
             if let Some(issue) = p.bound {
@@ -381,7 +381,7 @@ pub fn to_table(r: &Identified) -> String {
             interval,
             u.dim.boundary_unit()
         );
-        if let Some(n) = &p.note {
+        if let Some(n) = ParamNote::join(&p.notes) {
             let _ = writeln!(o, "    {n}");
         }
     }
@@ -437,3 +437,7 @@ pub fn to_table(r: &Identified) -> String {
     }
     o
 }
+
+#[cfg(test)]
+#[path = "identify_tests.rs"]
+mod tests;

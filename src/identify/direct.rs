@@ -14,7 +14,9 @@ use super::columns::{column, is_affine, total_force};
 use super::combinations::determine;
 use super::linalg::{null_space, rank, svd, truncated_solve};
 use super::measured::{Measured, unmeasured};
-use super::{FitNote, Identified, IdentifyError, IdentifyErrorKind, Method, ParamResult, Unknown};
+use super::{
+    FitNote, Identified, IdentifyError, IdentifyErrorKind, Method, ParamNote, ParamResult, Unknown,
+};
 use crate::model::address::Address;
 use crate::model::schema::FieldId;
 use crate::model::{ElementId, Model};
@@ -263,24 +265,21 @@ pub fn identify(
             value: None,
             interval: None,
             identifiable: false,
-            note: None,
+            notes: Vec::new(),
             bound: None,
         })
         .collect();
-    let why_not = |j: usize| -> String {
+    let why_not = |j: usize| -> ParamNote {
         match det.groups.iter().find(|g| g.contains(&j)) {
-            Some(g) if g.len() > 1 => format!(
-                "not determined on its own: only combinations with {} are (see determined combinations)",
-                g.iter()
+            Some(g) if g.len() > 1 => ParamNote::OnlyCombined {
+                with: g
+                    .iter()
                     .filter(|&&o| o != j)
                     .map(|&o| names[o].clone())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-            _ if st.a.column(j).norm() == 0.0 => {
-                "not determined: the measured equilibria do not deform the element this way (zero column)".into()
-            }
-            _ => "not determined: it does not affect the measured equilibria".into(),
+                    .collect(),
+            },
+            _ if st.a.column(j).norm() == 0.0 => ParamNote::NotDeformed,
+            _ => ParamNote::NoEffect,
         }
     };
     for (j, lin) in lins.iter().enumerate() {
@@ -293,7 +292,7 @@ pub fn identify(
                     .position(|l| *l == Lin::SpringK { k })
                     .unwrap_or(j);
                 if !det.determined[jk] {
-                    params[l0].note = Some(why_not(jk));
+                    params[l0].notes = vec![why_not(jk)];
                     continue;
                 }
                 let (kv, kl) = (y[jk], y[j]);
@@ -304,26 +303,24 @@ pub fn identify(
         };
         let p = &mut params[i];
         if !det.determined[j] {
-            p.note = Some(why_not(j));
+            p.notes = vec![why_not(j)];
             continue;
         }
         if !v.is_finite() {
-            p.note = Some("the solution is not a finite number".into());
+            p.notes = vec![ParamNote::NotFinite];
             continue;
         }
         let half = 1.96 * var.max(0.0).sqrt();
         if unknowns[i].is_stiffness() && v <= 0.0 {
-            p.note = Some(format!(
-                "determined by the equations but came out {} (not positive): the data do not support a stiffness here",
-                super::round_sig(crate::units::to_boundary(v, unknowns[i].dim), 4)
-            ));
+            p.notes = vec![ParamNote::NotPositive {
+                value: crate::units::to_boundary(v, unknowns[i].dim),
+            }];
             continue;
         }
         if half > 0.5 * v.abs() && unknowns[i].is_stiffness() {
-            p.note = Some(format!(
-                "determined by the equations but not by the data's precision (95 % half-width {:.0} % of the value)",
-                100.0 * half / v.abs()
-            ));
+            p.notes = vec![ParamNote::Imprecise {
+                half_width_percent: 100.0 * half / v.abs(),
+            }];
             continue;
         }
         p.value = Some(v);

@@ -17,7 +17,7 @@
 
 use super::linalg::{solve, svd};
 use super::lsq::{is_log, scale_of};
-use super::{BoundIssue, IdentifyError, IdentifyErrorKind, ParamResult, Unknown};
+use super::{BoundIssue, IdentifyError, IdentifyErrorKind, ParamNote, ParamResult, Unknown};
 use nalgebra::DMatrix;
 
 /// The fit at its solution.
@@ -100,16 +100,11 @@ pub fn statistics(fit: &Fit) -> Result<Stats, IdentifyError> {
                 value: Some(p),
                 interval: None,
                 identifiable: false,
-                note: Some(format!(
-                    "at its {} bound {} {}: the data pull it beyond the declared bounds, so it is held there and has no interval (the others' intervals assume it exact)",
-                    if side == BoundIssue::AtLower {
-                        "lower"
-                    } else {
-                        "upper"
-                    },
-                    super::round_sig(crate::units::to_boundary(p, u.dim), 6),
-                    u.dim.boundary_unit()
-                )),
+                notes: vec![ParamNote::HeldAtBound {
+                    upper: side == BoundIssue::AtUpper,
+                    value: crate::units::to_boundary(p, u.dim),
+                    unit: u.dim.boundary_unit(),
+                }],
                 bound: Some(side),
             });
             continue;
@@ -139,16 +134,15 @@ pub fn statistics(fit: &Fit) -> Result<Stats, IdentifyError> {
             value: if identifiable { Some(p) } else { None },
             interval: if identifiable { Some((lo, hi)) } else { None },
             identifiable,
-            note: if identifiable {
-                None
+            notes: if identifiable {
+                Vec::new()
             } else if in_null {
-                Some("not identifiable: it does not affect the observations".into())
+                vec![ParamNote::NotObserved]
             } else {
-                Some(format!(
-                    "not identifiable from these data: its 95 % interval spans a factor {:.2} (fitted {:.4e})",
-                    (1.0 + relw.min(1e12)),
-                    crate::units::to_boundary(p, u.dim)
-                ))
+                vec![ParamNote::WideInterval {
+                    relative_half_width: relw,
+                    fitted: crate::units::to_boundary(p, u.dim),
+                }]
             },
             bound: None,
         });

@@ -11,9 +11,10 @@
 //! previous one, so after the first pass a solve is a few Newton iterations.
 
 use super::measured::Measured;
+use super::notes::{AxisFit, AxisRegression};
 use super::{
-    FitNote, HistoryEntry, Identified, IdentifyError, IdentifyErrorKind, Method, ParamResult,
-    Unknown,
+    FitNote, HistoryEntry, Identified, IdentifyError, IdentifyErrorKind, Method, ParamNote,
+    ParamResult, Unknown,
 };
 use crate::model::address::Address;
 use crate::model::{BushingId, ElementId, Model};
@@ -189,7 +190,7 @@ pub fn identify(
     let mut states: Vec<State> = Vec::new();
     let mut simulator = Simulator::new();
     let mut accepted = vec![false; unknowns.len()];
-    let mut detail: Vec<String> = vec![String::new(); unknowns.len()];
+    let mut detail: Vec<Vec<AxisRegression>> = vec![Vec::new(); unknowns.len()];
     for it in 1..=opts.max_iterations {
         // Simulate every step with the current stiffnesses.
         let run = simulator.run(
@@ -213,7 +214,7 @@ pub fn identify(
         for (i, u) in unknowns.iter().enumerate() {
             let mut per_axis: Vec<(f64, f64)> = Vec::new(); // (new K, weight)
             let mut ok_any = false;
-            let mut words = Vec::new();
+            let mut axes = Vec::new();
             for (a, addr) in u.addrs.iter().enumerate() {
                 #[allow(clippy::expect_used)]
                 // every address was checked to be a bushing axis above
@@ -240,23 +241,13 @@ pub fn identify(
                 ok_any |= ok;
                 per_axis.push((if ok { k } else { values[i] }, spread));
                 let unit = if ax < 3 { "mm" } else { "deg" };
-                let e0b = if ax < 3 { e0 } else { e0.to_degrees() };
-                words.push(if r.is_finite() {
-                    format!(
-                        "{}: r = {r:.3}, offset {:.4} {unit}",
-                        u.names[a],
-                        // No "-0.0000" for an offset that rounds to zero.
-                        if e0b.is_finite() && e0b.abs() >= 5e-5 {
-                            e0b
-                        } else {
-                            0.0
-                        }
-                    )
-                } else {
-                    format!(
-                        "{}: no deformation or force spread to correlate",
-                        u.names[a]
-                    )
+                axes.push(AxisRegression {
+                    name: u.names[a].clone(),
+                    fit: r.is_finite().then(|| AxisFit {
+                        r,
+                        offset: if ax < 3 { e0 } else { e0.to_degrees() },
+                        unit,
+                    }),
                 });
             }
             // Axisymmetric pair: weighted by the spread of the loads (eq. 5.13).
@@ -267,7 +258,7 @@ pub fn identify(
                 per_axis[0].0
             };
             accepted[i] = ok_any;
-            detail[i] = words.join("; ");
+            detail[i] = axes;
         }
         let changed: Vec<usize> = (0..values.len())
             .filter(|&i| (next[i] - values[i]).abs() > opts.tolerance * values[i].abs())
@@ -287,14 +278,10 @@ pub fn identify(
                     value: Some(values[i]),
                     interval: None,
                     identifiable: accepted[i],
-                    note: Some(if accepted[i] {
-                        detail[i].clone()
-                    } else {
-                        format!(
-                            "kept its value: correlation below {} ({})",
-                            opts.threshold, detail[i]
-                        )
-                    }),
+                    notes: vec![ParamNote::Regression {
+                        axes: detail[i].clone(),
+                        kept_below: (!accepted[i]).then_some(opts.threshold),
+                    }],
                     bound: None,
                 })
                 .collect();

@@ -26,12 +26,14 @@ pub mod iterative;
 pub mod linalg;
 pub mod lsq;
 pub mod measured;
+pub mod notes;
 pub mod observations;
 pub mod report;
 pub mod unknowns;
 
-pub use error::{FitNote, IdentifyError, IdentifyErrorKind};
+pub use error::{IdentifyError, IdentifyErrorKind};
 pub use measured::{KcObservation, Measured, MeasuredStep};
+pub use notes::{FitNote, ParamNote};
 pub use unknowns::{Unknown, select_unknowns};
 
 use crate::model::Model;
@@ -63,8 +65,9 @@ pub struct ParamResult {
     /// 95 % interval, when the method estimates one.
     pub interval: Option<(f64, f64)>,
     pub identifiable: bool,
-    /// Why a parameter is not identified, or a remark on its value.
-    pub note: Option<String>,
+    /// Why a parameter is not identified, or remarks on its value, in the
+    /// order they are printed ([`ParamNote::join`]).
+    pub notes: Vec<ParamNote>,
     /// The value's relation to the unknown's declared bounds, when it is not
     /// plainly inside them.
     pub bound: Option<BoundIssue>,
@@ -92,27 +95,19 @@ pub(crate) fn flag_outside_bounds(r: &mut Identified) {
             (_, Some(hi)) if v > hi => BoundIssue::AboveUpper,
             _ => continue,
         };
-        let b = |x: Option<f64>| {
-            x.map_or("open".to_string(), |x| {
-                format!("{}", round_sig(crate::units::to_boundary(x, u.dim), 6))
-            })
+        let b = |x: Option<f64>| x.map(|x| crate::units::to_boundary(x, u.dim));
+        let bounds = notes::OutsideBounds {
+            unknown: u.label(),
+            value: crate::units::to_boundary(v, u.dim),
+            unit: u.dim.boundary_unit(),
+            lower: b(u.bounds.lower),
+            upper: b(u.bounds.upper),
         };
-        let text = format!(
-            "{} = {} {} lies outside its declared bounds [{}, {}]",
-            u.label(),
-            round_sig(crate::units::to_boundary(v, u.dim), 6),
-            u.dim.boundary_unit(),
-            b(u.bounds.lower),
-            b(u.bounds.upper)
-        );
-        p.note = Some(match p.note.take() {
-            Some(n) => format!("{text}; {n}"),
-            None => text.clone(),
-        });
+        // First, since it says the value is not admissible.
+        p.notes.insert(0, ParamNote::OutsideBounds(bounds.clone()));
         p.bound = Some(issue);
         let note = FitNote::OutsideBounds {
-            unknown: u.label(),
-            text,
+            bounds,
             method: r.method.name(),
         };
         r.notes.push(note);

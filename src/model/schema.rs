@@ -95,9 +95,13 @@ pub struct FieldSpec {
 pub struct ElementSchema {
     pub kind: Kind,
     pub keyword: &'static str,
-    /// Properties that name markers or choose a variant (`i`, `j`, `law`, `motion`).
+    /// Properties that name markers or elements (`i`, `j`, `joint`), listed
+    /// before the fields.
     pub refs: &'static [&'static str],
     pub fields: &'static [FieldSpec],
+    /// Properties that choose a variant instead of the fields (`law` for a
+    /// table law, `motion`), listed after the fields.
+    pub choices: &'static [&'static str],
 }
 
 const fn f(
@@ -199,12 +203,13 @@ pub const BUSHING: ElementSchema = ElementSchema {
         ),
         f(Position, "", Axes, Dim::LENGTH, &[], "(0, 0, 0) mm"),
     ],
+    choices: &[],
 };
 
 pub const SPRING: ElementSchema = ElementSchema {
     kind: Kind::Spring,
     keyword: "spring",
-    refs: &["i", "j", "law"],
+    refs: &["i", "j"],
     fields: &[
         with_law(
             f(SpringK, "k", Scalar, Dim::STIFFNESS, &["k"], "30 N/mm"),
@@ -229,12 +234,13 @@ pub const SPRING: ElementSchema = ElementSchema {
             "4800 N",
         ),
     ],
+    choices: &["law"],
 };
 
 pub const STOP: ElementSchema = ElementSchema {
     kind: Kind::Stop,
     keyword: "stop",
-    refs: &["i", "j", "law"],
+    refs: &["i", "j"],
     fields: &[
         f(
             ContactLength,
@@ -258,12 +264,13 @@ pub const STOP: ElementSchema = ElementSchema {
             None,
         ),
     ],
+    choices: &["law"],
 };
 
 pub const FRICTION: ElementSchema = ElementSchema {
     kind: Kind::Friction,
     keyword: "friction",
-    refs: &["joint", "motion"],
+    refs: &["joint"],
     fields: &[
         f(
             FrictionStiffness,
@@ -282,6 +289,7 @@ pub const FRICTION: ElementSchema = ElementSchema {
             "150 N",
         ),
     ],
+    choices: &["motion"],
 };
 
 pub const JOINT: ElementSchema = ElementSchema {
@@ -289,6 +297,7 @@ pub const JOINT: ElementSchema = ElementSchema {
     keyword: "joint",
     refs: &["i", "j"],
     fields: &[f(Position, "", Axes, Dim::LENGTH, &[], "(0, 0, 0) mm")],
+    choices: &[],
 };
 
 pub const MARKER: ElementSchema = ElementSchema {
@@ -296,6 +305,7 @@ pub const MARKER: ElementSchema = ElementSchema {
     keyword: "marker",
     refs: &[],
     fields: &[f(Position, "", Axes, Dim::LENGTH, &["at"], "(0, 0, 0) mm")],
+    choices: &[],
 };
 
 pub const LANDMARK: ElementSchema = ElementSchema {
@@ -303,6 +313,7 @@ pub const LANDMARK: ElementSchema = ElementSchema {
     keyword: "landmark",
     refs: &[],
     fields: &[f(Position, "", Axes, Dim::LENGTH, &["at"], "(0, 0, 0) mm")],
+    choices: &[],
 };
 
 pub const PARAM: ElementSchema = ElementSchema {
@@ -310,6 +321,7 @@ pub const PARAM: ElementSchema = ElementSchema {
     keyword: "param",
     refs: &[],
     fields: &[f(Value, "", Scalar, Dim::NONE, &[], "310 N/mm")],
+    choices: &[],
 };
 
 /// The description of an element kind.
@@ -327,16 +339,30 @@ pub fn of(kind: Kind) -> &'static ElementSchema {
 }
 
 impl ElementSchema {
-    /// Every property key the element accepts, for the checker.
+    /// Every property key the element accepts, for the checker: the
+    /// references, the fields' keys, then the choices.
     pub fn keys(&self) -> Vec<&'static str> {
-        let mut out: Vec<&'static str> = self.refs.to_vec();
-        for s in self.fields {
-            out.extend(
-                s.keys
-                    .iter()
-                    .filter(|k| !out.contains(k))
-                    .collect::<Vec<_>>(),
-            );
+        let mut out = self.refs.to_vec();
+        for k in self
+            .field_keys()
+            .into_iter()
+            .chain(self.choices.iter().copied())
+        {
+            if !out.contains(&k) {
+                out.push(k);
+            }
+        }
+        out
+    }
+
+    /// The keys that write the fields, in order (a spring's `k`,
+    /// `free_length`, `preload`).
+    pub fn field_keys(&self) -> Vec<&'static str> {
+        let mut out = Vec::new();
+        for k in self.fields.iter().flat_map(|s| s.keys.iter().copied()) {
+            if !out.contains(&k) {
+                out.push(k);
+            }
         }
         out
     }
@@ -351,6 +377,17 @@ impl ElementSchema {
             .iter()
             .find(|s| s.id == want)
             .unwrap_or(&self.fields[0])
+    }
+}
+
+impl FieldSpec {
+    /// The example of a single value: for a list, its first item (`500 N/mm`
+    /// of `[500 N/mm, 20 N/mm^2]`, a stop's `k`).
+    pub fn scalar_example(&self) -> &'static str {
+        match self.example.strip_prefix('[') {
+            Some(list) => list.split(',').next().unwrap_or(list).trim_end_matches(']'),
+            None => self.example,
+        }
     }
 }
 
@@ -402,5 +439,12 @@ mod tests {
         // A stop's poly of degree 2 is N/mm², degree 1 a stiffness.
         assert_eq!(Coefficient(2).dim(Kind::Stop), Dim::new(-2, 1, 0));
         assert_eq!(Coefficient(1).dim(Kind::Stop), Dim::STIFFNESS);
+    }
+
+    #[test]
+    fn a_list_example_gives_its_first_item_as_a_scalar_example() {
+        let poly = STOP.field(Coefficient(1));
+        assert_eq!(poly.scalar_example(), "500 N/mm");
+        assert_eq!(SPRING.field(SpringK).scalar_example(), "30 N/mm");
     }
 }
