@@ -43,9 +43,17 @@ pub fn floor(c: Channel) -> f64 {
     }
 }
 
-/// The noise of each channel: `given` where the user said, else estimated.
+/// The noise of each channel: `given` where the user said, else estimated;
+/// the landmarks' absent without landmark data, whatever was given.
 pub fn noise(paths: &[RigPath], given: &[(Channel, f64)]) -> Noise {
+    let landmarks = paths.iter().any(RigPath::has_landmarks);
     Channel::ALL.map(|c| {
+        if c == Channel::Landmarks && !landmarks {
+            return ChannelNoise {
+                sigma: 1.0,
+                source: Source::Absent,
+            };
+        }
         if let Some((_, s)) = given.iter().find(|(g, _)| *g == c) {
             return ChannelNoise {
                 sigma: *s,
@@ -63,14 +71,8 @@ pub fn noise(paths: &[RigPath], given: &[(Channel, f64)]) -> Noise {
     })
 }
 
-/// The landmark noise from the pose fits' residuals; absent without landmarks.
+/// The landmark noise from the pose fits' residuals.
 fn landmark_noise(paths: &[RigPath], floor: f64) -> ChannelNoise {
-    if !paths.iter().any(RigPath::has_landmarks) {
-        return ChannelNoise {
-            sigma: 1.0,
-            source: Source::Absent,
-        };
-    }
     let (sum_sq, dof) = paths.iter().fold((0.0, 0), |(s, d), p| {
         (s + p.pose_fit.sum_sq, d + p.pose_fit.dof)
     });
@@ -168,5 +170,42 @@ mod tests {
     fn noise_free_data_gets_the_floor() {
         let series = vec![(0..20).map(|k| 0.1 * k as f64).collect::<Vec<_>>()];
         assert_eq!(estimate(&series, 1e-3).source, Source::Floor);
+    }
+
+    fn path(landmarks: bool, sum_sq: f64, dof: usize) -> RigPath {
+        use crate::diagnose::rig::{PoseFitResidual, RigStep};
+        RigPath {
+            name: "p".into(),
+            file: crate::span::FileId(0),
+            wheel: crate::model::WheelId(0),
+            steps: vec![RigStep {
+                step: 1,
+                loads: vec![],
+                measured: [0.0; 5],
+                landmarks: if landmarks {
+                    vec![(crate::model::LandmarkId(0), crate::geom::Vec3::zeros())]
+                } else {
+                    vec![]
+                },
+            }],
+            pose_fit: PoseFitResidual { sum_sq, dof },
+            landmark_names: vec![],
+        }
+    }
+
+    /// The landmark noise is the pose fits' residual per degree of freedom
+    /// over every path; without landmark data the channel is absent even
+    /// when a deviation was given for it (it would show an RMS of nothing).
+    #[test]
+    fn landmark_noise_is_the_pose_fit_residual_or_absent() {
+        let n = noise(&[path(true, 2.0, 300), path(true, 0.5, 200)], &[]);
+        let l = n[Channel::Landmarks.index()];
+        assert_eq!(l.source, Source::Estimated(500));
+        assert!((l.sigma - (2.5f64 / 500.0).sqrt()).abs() < 1e-15);
+        let given = [(Channel::Landmarks, 0.05)];
+        let n = noise(&[path(false, 0.0, 0)], &given);
+        assert!(!n[Channel::Landmarks.index()].present());
+        let n = noise(&[path(true, 2.0, 300)], &given);
+        assert_eq!(n[Channel::Landmarks.index()].source, Source::Given);
     }
 }
