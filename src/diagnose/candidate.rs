@@ -246,25 +246,25 @@ fn stiffness(m: &Model, out: &mut Vec<Candidate>) {
     }
     for (s, sp) in m.springs.iter().enumerate() {
         let id = SpringId(s as u32);
-        if let SpringLaw::Linear { k, .. } = &sp.law {
-            if k.value > 0.0 {
-                let a = Address::spring(id, FieldId::SpringK);
-                let p = param(
-                    m,
-                    a,
-                    Scale::Log { reference: k.value },
-                    -STIFFNESS_RANGE,
-                    STIFFNESS_RANGE,
-                    0.3,
-                    false,
-                );
-                out.push(single(
-                    Kind::Stiffness,
-                    ElementId::Spring(id),
-                    "rate".into(),
-                    p,
-                ));
-            }
+        if let SpringLaw::Linear { k, .. } = &sp.law
+            && k.value > 0.0
+        {
+            let a = Address::spring(id, FieldId::SpringK);
+            let p = param(
+                m,
+                a,
+                Scale::Log { reference: k.value },
+                -STIFFNESS_RANGE,
+                STIFFNESS_RANGE,
+                0.3,
+                false,
+            );
+            out.push(single(
+                Kind::Stiffness,
+                ElementId::Spring(id),
+                "rate".into(),
+                p,
+            ));
         }
     }
 }

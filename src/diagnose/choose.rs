@@ -370,13 +370,12 @@ fn visible(ctx: &Context, before: &Summary, after: &Summary) -> bool {
 
 fn gain(before: &Summary, after: &Summary) -> PerChannel {
     let mut g = [0.0; 6];
-    for c in 0..6 {
-        let b = before.rms_held_out[c];
-        g[c] = if b > 0.0 {
-            1.0 - after.rms_held_out[c] / b
-        } else {
-            0.0
-        };
+    for ((g, b), a) in g
+        .iter_mut()
+        .zip(&before.rms_held_out)
+        .zip(&after.rms_held_out)
+    {
+        *g = if *b > 0.0 { 1.0 - a / b } else { 0.0 };
     }
     g
 }
