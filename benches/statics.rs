@@ -58,6 +58,18 @@ fn main() {
         let lus: usize = warm.iter().map(|e| e.factorizations).sum();
         println!("corners N = {n}: {steps} Newton steps, {lus} factorisations (warm set)");
     }
+    // The random path's work, and a digest of every result (bit for bit).
+    let (m, set) = random_path(500);
+    let p = Problem::new(&m).expect("problem");
+    let eqs = solve_path(&p, set).expect("solves");
+    let steps: usize = eqs.iter().map(|e| e.iterations).sum();
+    let lus: usize = eqs.iter().map(|e| e.factorizations).sum();
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    std::hash::Hash::hash(&format!("{eqs:?}"), &mut h);
+    println!(
+        "random_500_path: {steps} Newton steps, {lus} factorisations; results digest {:016x}",
+        std::hash::Hasher::finish(&h)
+    );
     divan::main();
 }
 
