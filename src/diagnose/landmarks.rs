@@ -84,14 +84,8 @@ fn attach_to(
 ) -> Result<(), Diagnostic> {
     let data = read_landmarks(sources, files, model, remarks)?;
     let steps = data.fit(sources, model, MATCH_TOLERANCE, remarks);
-    if steps.is_empty() {
-        return Err(data.step(&steps, None).err().unwrap_or_else(|| {
-            Diagnostic::error(
-                "E0807",
-                format!("no step of {} gives a part pose", data.shown()),
-            )
-        }));
-    }
+    // No step with a pose: E0807 with the steps the data has.
+    data.step(&steps, None)?;
     let mut fit = PoseFitResidual::default();
     for s in &steps {
         let Some(k) = path.steps.iter().position(|r| r.step == s.step) else {
@@ -128,6 +122,15 @@ fn attach_to(
     }
     path.pose_fit = fit;
     Ok(())
+}
+
+/// The sum of squared distances (mm²) between the simulated points `at`
+/// and the measured `points` of one step.
+pub fn misfit(at: &[Vec3], points: &[(LandmarkId, Vec3)]) -> f64 {
+    at.iter()
+        .zip(points)
+        .map(|(x, (_, m))| (x - m).norm_squared())
+        .sum()
 }
 
 /// Where the landmarks `points` are on their parts at `state` (model frame).

@@ -7,7 +7,7 @@
 
 use super::channel::{self, Channel, Design, Measured, PerChannel};
 use super::holdout::Subset;
-use super::landmarks::simulated;
+use super::landmarks::{misfit, simulated};
 use super::noise::{Noise, weighted};
 use super::rig::{RigPath, RigStep};
 use crate::geom::Vec3;
@@ -192,10 +192,8 @@ impl Replay {
                 for c in 0..5 {
                     sum[c] += (s[c] - step.measured[c]).powi(2);
                 }
-                for (x, (_, m)) in self.landmarks[p][k].iter().zip(&step.landmarks) {
-                    sum[5] += (x - m).norm_squared();
-                    coords += 3;
-                }
+                sum[5] += misfit(&self.landmarks[p][k], &step.landmarks);
+                coords += 3 * step.landmarks.len();
             }
         }
         let mean = |v: f64, n: usize| if n == 0 { 0.0 } else { (v / n as f64).sqrt() };

@@ -7,6 +7,7 @@
 //! and extended.
 
 use crate::diagnose::channel::Channel;
+use crate::diagnose::landmarks::misfit;
 use crate::diagnose::replay::Replay;
 use crate::diagnose::rig::RigPath;
 use crate::diagnose::{Diagnosis, words};
@@ -83,12 +84,7 @@ fn landmark_plot(p: &RigPath, k: usize, d: &Diagnosis) -> Option<String> {
     let (load, all) = p.main_load();
     let rms = |r: &Replay, i: usize| {
         let s = &p.steps[i];
-        let sum: f64 = r.landmarks[k][i]
-            .iter()
-            .zip(&s.landmarks)
-            .map(|(x, (_, m))| (x - m).norm_squared())
-            .sum();
-        (sum / (3 * s.landmarks.len()) as f64).sqrt()
+        (misfit(&r.landmarks[k][i], &s.landmarks) / (3 * s.landmarks.len()) as f64).sqrt()
     };
     let at: Vec<usize> = (0..p.steps.len())
         .filter(|&i| !p.steps[i].landmarks.is_empty())
