@@ -418,6 +418,18 @@ mod tests {
     }
 }
 
+/// Seeded uniform numbers in [-0.5, 0.5) for the tests' random matrices.
+#[cfg(test)]
+fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut s = seed;
+    move || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    }
+}
+
 #[cfg(test)]
 mod elimination_tests {
     use super::*;
@@ -428,13 +440,7 @@ mod elimination_tests {
     #[test]
     fn the_elimination_pivots_and_solves() {
         let n = 23;
-        let mut s = 11u64;
-        let mut next = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut next = uniform(11);
         let a = Mat::from_fn(n, n, |i, j| {
             let v = next();
             if i == j {
@@ -475,13 +481,7 @@ mod block_tests {
             (0..n).filter(|i| i % 3 == 0).collect(),
             (0..n).filter(|i| i % 3 != 0).collect(),
         ];
-        let mut s = 7u64;
-        let mut next = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut next = uniform(7);
         let mut a = Mat::<f64>::zeros(n, n);
         for g in &groups {
             for &i in g {
