@@ -6,7 +6,7 @@
 //! joint's reaction, and its tangent is the λ-weighted second derivative the
 //! Newton matrix needs. So one [`Wrench`] gives both.
 
-use super::coords::{Layout, State, marker_kin};
+use super::coords::{Layout, MarkerKin, State, marker_kin};
 use super::wrench::{Wrench, blocks, d_axis_j, d_point_i};
 use crate::geom::{Mat3, Vec3, skew};
 use crate::model::{JointId, Model, Primitive};
@@ -40,11 +40,29 @@ pub fn is_length(p: Primitive) -> bool {
 /// The value of the equation and its unit reaction wrench (whose generalised
 /// force is the gradient row).
 pub fn evaluate(model: &Model, layout: &Layout, state: &State, eq: &Equation) -> (f64, Wrench) {
-    let joint = &model.joints[eq.joint.index()];
-    let mi = marker_kin(model, layout, state, joint.i);
-    let mj = marker_kin(model, layout, state, joint.j);
+    let (mi, mj) = joint_markers(model, layout, state, eq.joint);
+    evaluate_at(&mi, &mj, eq.primitive)
+}
+
+/// The current frames of a joint's I and J markers.
+pub fn joint_markers(
+    model: &Model,
+    layout: &Layout,
+    state: &State,
+    joint: JointId,
+) -> (MarkerKin, MarkerKin) {
+    let joint = &model.joints[joint.index()];
+    (
+        marker_kin(model, layout, state, joint.i),
+        marker_kin(model, layout, state, joint.j),
+    )
+}
+
+/// [`evaluate`] with the joint's marker frames at hand (a joint's equations
+/// share them).
+pub fn evaluate_at(mi: &MarkerKin, mj: &MarkerKin, primitive: Primitive) -> (f64, Wrench) {
     let d = mi.p - mj.p;
-    match eq.primitive {
+    match primitive {
         Primitive::Coincident(k) => {
             let e = Vec3::ith(k.index(), 1.0);
             let mut w = Wrench::new(mi.block, mj.block, mi.r, mj.r);

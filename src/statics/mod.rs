@@ -35,7 +35,7 @@ pub use sensitivity::{CaseSensitivity, Parameter};
 
 use crate::geom::Vec3;
 use crate::model::{ElementId, JointId, LoadSetId, Model, PointLoad};
-use constraint::{Equation, evaluate};
+use constraint::Equation;
 use coords::Layout;
 use newton::{Failure, Homotopy, Solver, assemble, errors, newton};
 use redundancy::{independence, scaled_jacobian};
@@ -393,19 +393,20 @@ fn finish(
         }
     }
     let mut reactions: Vec<Reaction> = Vec::new();
+    // `sv.ws` was evaluated at `state`: its unit reactions are the wrenches'.
     for (idx, &e) in p.kept.iter().enumerate() {
         let eq = &p.equations[e];
-        let (_, w) = evaluate(&p.model, &p.layout, &state, eq);
+        let (g, m) = sv.ws.unit_reaction[idx];
         let lam = state.lambda.get(idx).copied().unwrap_or(0.0);
         match reactions.iter_mut().find(|r| r.joint == eq.joint) {
             Some(r) => {
-                r.force += w.g * lam;
-                r.torque += w.m * lam;
+                r.force += g * lam;
+                r.torque += m * lam;
             }
             None => reactions.push(Reaction {
                 joint: eq.joint,
-                force: w.g * lam,
-                torque: w.m * lam,
+                force: g * lam,
+                torque: m * lam,
             }),
         }
     }

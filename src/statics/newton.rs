@@ -11,14 +11,15 @@
 //! kept for the whole solve, so an iteration allocates almost nothing.
 
 use super::Problem;
-use super::constraint::{evaluate, is_length};
-use super::coords::State;
+use super::constraint::{evaluate_at, is_length, joint_markers};
+use super::coords::{MarkerKin, State};
 use super::error::{StaticsError, StaticsErrorKind};
 use super::forces::{for_each_element, point_load};
 use super::linear::Lu;
 use super::mobility::describe_motion;
 use super::wrench::Wrench;
-use crate::model::{ElementId, PointLoad};
+use crate::geom::Vec3;
+use crate::model::{ElementId, JointId, PointLoad};
 use faer::Mat;
 use nalgebra::{DMatrix, DVector};
 
@@ -54,6 +55,9 @@ pub(crate) struct Workspace {
     /// Kept constraint values divided by their row scale (m, mm).
     pub phi: Vec<f64>,
     pub row_scale: Vec<f64>,
+    /// Force and torque of each kept equation's unit reaction (its wrench's
+    /// `g` and `m`, unscaled): times λ, the joint reactions at the state.
+    pub unit_reaction: Vec<(Vec3, Vec3)>,
     /// `[S K S, J^T; J, 0]`, filled when the tangent is asked for.
     pub a: Mat<f64>,
     /// Largest element force (force plus moment over the length) at the state, N.
@@ -70,6 +74,7 @@ impl Workspace {
             r: vec![0.0; n],
             phi: vec![0.0; m],
             row_scale: vec![1.0; m],
+            unit_reaction: vec![(Vec3::zeros(), Vec3::zeros()); m],
             a: Mat::zeros(n + m, n + m),
             element_scale: 0.0,
             load_scale: 0.0,
@@ -92,6 +97,7 @@ impl Workspace {
             r,
             phi,
             row_scale,
+            unit_reaction,
             a,
             element_scale,
             load_scale,
@@ -115,11 +121,11 @@ impl Workspace {
                 // Column by column: one bounds check per column of a block
                 // (the products in the order of the entry-wise sum before).
                 w.each_tangent(|ro, co, blk| {
-                    for b in 0..6 {
+                    for b in 0..3 {
                         let sj = scale[co + b];
-                        let col = &mut a.col_as_slice_mut(co + b)[ro..ro + 6];
+                        let col = &mut a.col_as_slice_mut(co + b)[ro..ro + 3];
                         let rows = blk.column(b);
-                        for (x, (v, si)) in col.iter_mut().zip(rows.iter().zip(&scale[ro..ro + 6]))
+                        for (x, (v, si)) in col.iter_mut().zip(rows.iter().zip(&scale[ro..ro + 3]))
                         {
                             *x += lam * v * si * sj;
                         }
@@ -139,10 +145,20 @@ impl Workspace {
                 add(&w, 1.0, r, a, tangent, scale);
             }
         }
+        // A joint's equations are consecutive and share its marker frames.
+        let mut frames: Option<(JointId, MarkerKin, MarkerKin)> = None;
         for (idx, &e) in p.kept.iter().enumerate() {
             let lam = st.lambda.get(idx).copied().unwrap_or(0.0);
             let eq = &p.equations[e];
-            let (v, w) = evaluate(&p.model, &p.layout, st, eq);
+            let (mi, mj) = match frames {
+                Some((j, mi, mj)) if j == eq.joint => (mi, mj),
+                _ => {
+                    let (mi, mj) = joint_markers(&p.model, &p.layout, st, eq.joint);
+                    frames = Some((eq.joint, mi, mj));
+                    (mi, mj)
+                }
+            };
+            let (v, w) = evaluate_at(&mi, &mj, eq.primitive);
             // The gradient row with rotation columns times the length, as in
             // `redundancy::scaled_jacobian` (at most 12 entries).
             let mut grad = [(0usize, 0.0f64); 12];
@@ -161,6 +177,7 @@ impl Workspace {
             };
             row_scale[idx] = s;
             phi[idx] = v / s;
+            unit_reaction[idx] = (w.g, w.m);
             if tangent {
                 for &(i, g) in &grad[..len] {
                     a[(n + idx, i)] += g / s;

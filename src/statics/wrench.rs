@@ -14,7 +14,6 @@ use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 pub type M3x12 = SMatrix<f64, 3, 12>;
 pub type V12 = SVector<f64, 12>;
 pub type M12 = SMatrix<f64, 12, 12>;
-pub type M6 = SMatrix<f64, 6, 6>;
 
 /// A 3×12 matrix from four 3×3 blocks `[dx_I, theta_I, dx_J, theta_J]`.
 pub fn blocks(b: [Mat3; 4]) -> M3x12 {
@@ -59,6 +58,20 @@ pub struct Wrench {
     pub drho: M3x12,
 }
 
+/// `[.., -r~, ..]`: the derivative of an arm `r` turning with the rotation
+/// increment at columns `c..c + 3` (written in place: one is built per wrench).
+fn arm_turning(c: usize, r: &Vec3) -> M3x12 {
+    let mut m = M3x12::zeros();
+    m.fixed_view_mut::<3, 3>(0, c).copy_from(&-skew(r));
+    m
+}
+
+/// The 3×3 block of `m` at columns `c..c + 3`, unless all its entries are zero.
+fn nonzero_block(m: &M3x12, c: usize) -> Option<Mat3> {
+    let b: Mat3 = m.fixed_view::<3, 3>(0, c).into_owned();
+    b.iter().any(|v| *v != 0.0).then_some(b)
+}
+
 impl Wrench {
     /// A wrench with zero derivatives, to be filled by the element.
     pub fn new(i: Option<usize>, j: Option<usize>, r_i: Vec3, rho: Vec3) -> Wrench {
@@ -71,8 +84,8 @@ impl Wrench {
             rho,
             dg: M3x12::zeros(),
             dm: M3x12::zeros(),
-            dr_i: blocks([Mat3::zeros(), -skew(&r_i), Mat3::zeros(), Mat3::zeros()]),
-            drho: blocks([Mat3::zeros(), Mat3::zeros(), Mat3::zeros(), -skew(&rho)]),
+            dr_i: arm_turning(3, &r_i),
+            drho: arm_turning(9, &rho),
         }
     }
 
@@ -130,38 +143,67 @@ impl Wrench {
         }
     }
 
-    /// Calls `f(first row, first column, block)` for each 6×6 block of the
-    /// tangent that couples two moving parts.
+    /// Calls `f(first row, first column, block)` for each 3×3 block of the
+    /// tangent that couples two moving parts and is not identically zero.
     ///
-    /// The same entries as [`Self::tangent`], computed only for the 6-column
-    /// blocks of moving parts: a wrench on ground needs a quarter of the 12×12
-    /// matrix, and the Newton matrix is assembled from dozens of them per
-    /// evaluation (whole blocks, so that the caller adds them column by column).
-    pub fn each_tangent(&self, mut f: impl FnMut(usize, usize, &M6)) {
-        type M3x6 = SMatrix<f64, 3, 6>;
+    /// The same entries as [`Self::tangent`], computed only for the columns of
+    /// moving parts, and only from the 3×3 blocks of `dg`, `dm` and the arms'
+    /// derivatives that are not zero: a joint's unit reaction has constant
+    /// `g` (no `dg`) and arms that turn with one part each, so most of its
+    /// 6×6 blocks are empty. The Newton matrix is assembled from dozens of
+    /// wrenches per evaluation. A skipped block contributes exact zeros, and
+    /// the terms present are combined in the order of [`Self::tangent`], so
+    /// every entry is the same to the bit.
+    pub fn each_tangent(&self, mut f: impl FnMut(usize, usize, &Mat3)) {
         let offs = self.offsets();
         let gs = skew(&self.g);
+        let (ri, rho) = (skew(&self.r_i), skew(&self.rho));
         for (sc, co) in offs.iter().enumerate() {
             let Some(co) = *co else { continue };
-            let dg: M3x6 = self.dg.fixed_view::<3, 6>(0, 6 * sc).into_owned();
-            let dm: M3x6 = self.dm.fixed_view::<3, 6>(0, 6 * sc).into_owned();
-            let mut block = M6::zeros();
-            // Rows of I: [dg; -g~ dr_i + r_i~ dg + dm]; of J: [-dg; g~ drho - rho~ dg - dm].
-            if let Some(ro) = offs[0] {
-                let dr = self.dr_i.fixed_view::<3, 6>(0, 6 * sc);
-                block.fixed_view_mut::<3, 6>(0, 0).copy_from(&dg);
-                block
-                    .fixed_view_mut::<3, 6>(3, 0)
-                    .copy_from(&(-gs * dr + skew(&self.r_i) * dg + dm));
-                f(ro, co, &block);
-            }
-            if let Some(ro) = offs[1] {
-                let dr = self.drho.fixed_view::<3, 6>(0, 6 * sc);
-                block.fixed_view_mut::<3, 6>(0, 0).copy_from(&(-dg));
-                block
-                    .fixed_view_mut::<3, 6>(3, 0)
-                    .copy_from(&(gs * dr - skew(&self.rho) * dg - dm));
-                f(ro, co, &block);
+            for half in 0..2 {
+                let c = 6 * sc + 3 * half;
+                let dg = nonzero_block(&self.dg, c);
+                let dm = nonzero_block(&self.dm, c);
+                let col = co + 3 * half;
+                // Rows of I: [dg; -g~ dr_i + r_i~ dg + dm]; of J: [-dg; g~ drho - rho~ dg - dm].
+                if let Some(ro) = offs[0] {
+                    if let Some(dg) = &dg {
+                        f(ro, col, dg);
+                    }
+                    let dr = nonzero_block(&self.dr_i, c);
+                    if dr.is_some() || dg.is_some() || dm.is_some() {
+                        let mut b = Mat3::zeros();
+                        if let Some(dr) = &dr {
+                            b = -gs * dr;
+                        }
+                        if let Some(dg) = &dg {
+                            b += ri * dg;
+                        }
+                        if let Some(dm) = &dm {
+                            b += dm;
+                        }
+                        f(ro + 3, col, &b);
+                    }
+                }
+                if let Some(ro) = offs[1] {
+                    if let Some(dg) = &dg {
+                        f(ro, col, &(-dg));
+                    }
+                    let dr = nonzero_block(&self.drho, c);
+                    if dr.is_some() || dg.is_some() || dm.is_some() {
+                        let mut b = Mat3::zeros();
+                        if let Some(dr) = &dr {
+                            b = gs * dr;
+                        }
+                        if let Some(dg) = &dg {
+                            b -= rho * dg;
+                        }
+                        if let Some(dm) = &dm {
+                            b -= dm;
+                        }
+                        f(ro + 3, col, &b);
+                    }
+                }
             }
         }
     }
@@ -227,16 +269,14 @@ mod tests {
             w.drho = M3x12::from_fn(|_, _| rnd());
             let full = w.tangent();
             let mut got = DMatrix::zeros(18, 18);
-            let mut count = 0;
             w.each_tangent(|r, c, b| {
-                got.view_mut((r, c), (6, 6)).add_assign(b);
-                count += 36;
+                got.view_mut((r, c), (3, 3)).add_assign(b);
             });
             let mut want = DMatrix::zeros(18, 18);
             w.add_tangent(&mut want);
-            let blocks = [i, j].iter().filter(|b| b.is_some()).count();
-            assert_eq!(count, 36 * blocks * blocks);
-            assert!((got - &want).amax() < 1e-15 * (1.0 + full.amax()));
+            // Bit for bit: the blocks skipped are exact zeros.
+            assert_eq!(got, want);
+            assert!(full.amax() > 0.0);
         }
     }
 }
