@@ -128,3 +128,22 @@ fn the_mirrored_corner_under_mirrored_loads_is_the_mirror_image() {
     );
     assert!(worst.0 < 1e-8 && worst.1 < 1e-10 && worst.2 < 1e-8, "{worst:?}");
 }
+
+/// A template parameter is per instance (an argument overrides the default
+/// for its own instance only) and an argument may name a top-level `param`.
+#[test]
+fn an_argument_overrides_the_default_for_its_instance_only() {
+    let text = "model m\n\nimport mcpherson_corner\n\nparam k_right = 25 N/mm\n\nground chassis {\n}\n\ninstance front_left = mcpherson_corner()\ninstance front_right = mirror mcpherson_corner(k_spring = k_right, free_length = 300 mm)\n";
+    let (_, checked) = check_str("m.axle", text);
+    assert!(!checked.problems.has_errors(), "{:?}", checked.problems);
+    let m = checked.model.expect("checks");
+    let law = |name: &str| {
+        let s = m.springs.iter().find(|s| s.name == name).expect("spring");
+        match &s.law {
+            axle::model::SpringLaw::Linear { k, free_length, .. } => (k.value, free_length.value),
+            _ => panic!("a linear spring"),
+        }
+    };
+    assert_eq!(law("front_left.spring"), (30.0, 290.0));
+    assert_eq!(law("front_right.spring"), (25.0, 300.0));
+}
