@@ -2,10 +2,16 @@
 //! needs no file system.
 
 /// `(module name, source text)` for every stdlib module.
-pub const MODULES: &[(&str, &str)] = &[(
-    "mcpherson_loads",
-    include_str!("../stdlib/mcpherson_loads.axle"),
-)];
+pub const MODULES: &[(&str, &str)] = &[
+    (
+        "mcpherson_loads",
+        include_str!("../stdlib/mcpherson_loads.axle"),
+    ),
+    (
+        "mcpherson_corner",
+        include_str!("../stdlib/mcpherson_corner.axle"),
+    ),
+];
 
 pub fn module(name: &str) -> Option<&'static str> {
     MODULES.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)

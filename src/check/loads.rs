@@ -108,6 +108,12 @@ impl Checker {
         })
     }
 
+    /// The wheel whose (possibly qualified) name is `path` joined with dots.
+    fn wheel_named(&self, path: &[String]) -> Option<usize> {
+        let name = path.join(".");
+        self.model.wheels.iter().position(|w| w.name == name)
+    }
+
     /// The model's only wheel, for channels written without a wheel name.
     fn default_wheel(&mut self, span: Span, set: &str) -> Option<WheelId> {
         match self.model.wheels.len() {
@@ -160,8 +166,8 @@ impl Checker {
         let target = match c.path.len() {
             1 if self.library => LoadTarget::DefaultWheel,
             1 => LoadTarget::Wheel(self.default_wheel(c.span, set)?),
-            2 => {
-                let w = &c.path[0];
+            n if n == 2 || self.wheel_named(&c.path[..n - 1]).is_some() => {
+                let w = &c.path[..n - 1].join(".");
                 match self.model.wheels.iter().position(|x| &x.name == w) {
                     Some(i) => {
                         let at = Span::new(
@@ -197,26 +203,30 @@ impl Checker {
                     }
                 }
             }
-            _ => {
+            n => {
+                // `arm.tip.fx`, `front_left.upright.WC.fx`: the marker is the
+                // name before the component, the part the names before it.
+                let part = c.path[..n - 2].join(".");
+                let marker = &c.path[n - 2];
                 let r = crate::syntax::ast::MarkerRef {
                     part: Ident {
-                        name: c.path[0].clone(),
+                        name: part.clone(),
                         span: c.span,
                     },
                     marker: Ident {
-                        name: c.path[1].clone(),
+                        name: marker.clone(),
                         span: c.span,
                     },
                     span: c.span,
                 };
-                // The channel is one token (`arm.tip.fx`, no spaces): the names
-                // sit at known offsets inside it.
+                // The channel is one token (no spaces): the names sit at known
+                // offsets inside it.
                 let start = c.span.start as usize;
-                let part_end = start + c.path[0].len();
+                let part_end = start + part.len();
                 let marker_start = part_end + 1;
                 let names = (
                     Span::new(c.span.file, start, part_end),
-                    Span::new(c.span.file, marker_start, marker_start + c.path[1].len()),
+                    Span::new(c.span.file, marker_start, marker_start + marker.len()),
                 );
                 LoadTarget::Marker(self.marker_ref_at(&r, names)?)
             }

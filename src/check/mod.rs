@@ -8,11 +8,14 @@ mod bushing;
 mod elements;
 mod error;
 mod eval;
+mod expand;
 mod far_markers;
 mod friction;
 pub use friction::{allows as friction_allows, motion_word as friction_motion_word};
 mod geometry;
 mod loads;
+mod mirror;
+pub use mirror::mirror_frame;
 mod mobility;
 mod parts;
 mod props;
@@ -108,6 +111,8 @@ fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize, passes: Pass
     let ast = parsed.ast;
     let syntax_errors = parsed.errors;
     let mut problems = Problems::default();
+    // Templates of imported modules, for the instances of this file.
+    let mut imported_templates = Vec::new();
     let mut imports = Vec::new();
     let mut resolution = Resolution::default();
     for item in &ast.items {
@@ -133,12 +138,28 @@ fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize, passes: Pass
                 .unwrap_or_else(|| sources.add(fname, src));
             let sub = check_depth(sources, fid, depth + 1, passes);
             let usable = !sub.problems.has_errors();
+            imported_templates.extend(
+                sub.ast
+                    .items
+                    .iter()
+                    .filter(|i| matches!(i.kind, ItemKind::Template(_)))
+                    .cloned(),
+            );
             problems.extend(sub.problems);
             resolution.module(name.span, sub.ast.span);
             if usable {
                 imports.push((name.clone(), sub.model));
             }
         }
+    }
+    // Templates and instances become plain items; the checker reads those.
+    let mut expansion = expand::expand(&ast, &imported_templates);
+    let flat = File {
+        items: std::mem::take(&mut expansion.items),
+        span: ast.span,
+    };
+    for d in std::mem::take(&mut expansion.problems) {
+        problems.push(d);
     }
     let stem = std::path::Path::new(sources.name(file))
         .file_stem()
@@ -150,12 +171,12 @@ fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize, passes: Pass
             name: stem,
             ..Model::default()
         },
-        library: !ast
+        library: !flat
             .items
             .iter()
             .any(|i| matches!(i.kind, ItemKind::Part(_))),
         file_span: ast.span,
-        param_decls: ast
+        param_decls: flat
             .items
             .iter()
             .filter_map(|i| match &i.kind {
@@ -170,8 +191,10 @@ fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize, passes: Pass
             mobility: passes.mobility && syntax_errors.is_empty(),
         },
         resolution,
+        mirrored_parts: std::mem::take(&mut expansion.mirrored_parts),
+        mirrored_markers: std::mem::take(&mut expansion.mirrored_markers),
     };
-    checker.run(&ast, imports);
+    checker.run(&flat, imports);
     let Checker {
         mut problems,
         model,
@@ -179,6 +202,7 @@ fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize, passes: Pass
         ..
     } = checker;
     let parsed = syntax_errors.is_empty();
+    problems.list = expand::attribute(problems.list, &expansion.instances);
     if !parsed {
         problems = Problems {
             list: syntax_errors,
@@ -212,6 +236,10 @@ pub(crate) struct Checker {
     pub(crate) passes: Passes,
     /// References found while resolving names.
     pub(crate) resolution: Resolution,
+    /// Parts of mirrored instances (expanded names), see `mirror`.
+    pub(crate) mirrored_parts: std::collections::BTreeSet<String>,
+    /// `(ground, marker)` added to the ground by mirrored instances.
+    pub(crate) mirrored_markers: std::collections::BTreeSet<(String, String)>,
 }
 
 impl Checker {
@@ -232,6 +260,7 @@ impl Checker {
             })
             .collect();
         self.parts(ast);
+        self.mirror();
         self.elements(ast);
         self.loads(ast, imports);
         self.default_loads(default);

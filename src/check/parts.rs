@@ -7,7 +7,7 @@ use crate::model::{
     ElementId, Landmark, LandmarkId, Marker, MarkerId, Orientation, Part, PartId, Val, values,
 };
 use crate::span::Span;
-use crate::syntax::ast::{File, ItemKind, MarkerRef, Orient, PartItem};
+use crate::syntax::ast::{File, Ident, ItemKind, MarkerRef, Orient, PartItem};
 use crate::units::Dim;
 
 impl Checker {
@@ -160,6 +160,24 @@ impl Checker {
     /// [`Self::marker_ref`], with the spans of the two names for the table of
     /// references (a load channel `arm.tip.fx` reports on the whole channel).
     pub(super) fn marker_ref_at(&mut self, r: &MarkerRef, at: (Span, Span)) -> Option<MarkerId> {
+        // `chassis.front_left.B`: a marker an instance added to the ground.
+        if self.model.part_named(&r.part.name).is_none()
+            && let Some((head, rest)) = r.part.name.split_once('.')
+            && self.model.part_named(head).is_some()
+        {
+            let r = MarkerRef {
+                part: Ident {
+                    name: head.to_string(),
+                    span: r.part.span,
+                },
+                marker: Ident {
+                    name: format!("{rest}.{}", r.marker.name),
+                    span: r.marker.span,
+                },
+                span: r.span,
+            };
+            return self.marker_ref_at(&r, at);
+        }
         let Some(part) = self.model.part_named(&r.part.name) else {
             let d = error::unknown_name(
                 "part",

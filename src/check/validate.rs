@@ -21,6 +21,8 @@ pub fn validate(model: &Model) -> Problems {
         failed_params: Vec::new(),
         passes: super::Passes::ALL,
         resolution: Default::default(),
+        mirrored_parts: Default::default(),
+        mirrored_markers: Default::default(),
     };
     // Out-of-range ids would panic in the geometry pass: stop at them.
     if !c.ids_in_range() {

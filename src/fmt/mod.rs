@@ -217,7 +217,9 @@ impl Formatter<'_> {
     fn open_block(&mut self, span: Span, head: String, head_end: usize) {
         // A block always stands apart from what precedes it (and its leading comments with it).
         self.force_blank = !self.out.is_empty();
-        self.flush_leading(span.start as usize, "", true);
+        // Its comments are indented as the head is (inside a template).
+        let indent: String = head.chars().take_while(|c| *c == ' ').collect();
+        self.flush_leading(span.start as usize, &indent, true);
         self.out.push_str(&head);
         self.out.push_str(" {");
         while self
@@ -235,56 +237,86 @@ impl Formatter<'_> {
         self.end_line(brace);
     }
 
-    fn close_block(&mut self, span: Span) {
+    fn close_block(&mut self, span: Span, base: &str) {
         let close = (span.end as usize).saturating_sub(1);
-        self.flush_leading(close, INDENT, false);
+        self.flush_leading(close, &format!("{base}{INDENT}"), false);
+        self.out.push_str(base);
         self.out.push('}');
         self.end_line(span.end as usize);
         self.force_blank = true;
     }
 
     fn item(&mut self, item: &Item) {
+        self.item_at(item, "");
+    }
+
+    /// One item at an indentation (`""` at top level, one [`INDENT`] inside a
+    /// template).
+    fn item_at(&mut self, item: &Item, base: &str) {
+        let inner = format!("{base}{INDENT}");
+        let inner = inner.as_str();
         match &item.kind {
             ItemKind::Model(n) => {
-                self.statement(item.span, "", true, || format!("model {}", n.name))
+                self.statement(item.span, base, true, || format!("model {}", n.name))
             }
             ItemKind::Import(n) => {
-                self.statement(item.span, "", true, || format!("import {}", n.name))
+                self.statement(item.span, base, true, || format!("import {}", n.name))
             }
             ItemKind::DefaultLoads(n) => {
-                self.statement(item.span, "", true, || format!("default loads {}", n.name))
+                self.statement(item.span, base, true, || format!("default loads {}", n.name))
             }
-            ItemKind::Param(p) => self.statement(item.span, "", true, || print::param(p)),
+            ItemKind::Param(p) => self.statement(item.span, base, true, || print::param(p)),
             ItemKind::Part(p) => {
                 let kw = if p.ground { "ground" } else { "part" };
-                self.open_block(item.span, format!("{kw} {}", p.name.name), 0);
+                self.open_block(item.span, format!("{base}{kw} {}", p.name.name), 0);
                 for (n, pi) in p.items.iter().enumerate() {
                     let keep = n > 0;
                     match pi {
                         PartItem::Marker(m) => {
-                            self.statement(m.span, INDENT, keep, || print::marker(m))
+                            self.statement(m.span, inner, keep, || print::marker(m))
                         }
-                        PartItem::Landmark(l) => self.statement(l.span, INDENT, keep, || {
+                        PartItem::Landmark(l) => self.statement(l.span, inner, keep, || {
                             format!("landmark {} at {}", l.name.name, print::vector(&l.at))
                         }),
                     }
                 }
-                self.close_block(item.span);
+                self.close_block(item.span, base);
             }
             ItemKind::Element(e) => {
-                let mut head = format!("{} {}", e.keyword.keyword(), e.name.name);
+                let mut head = format!("{base}{} {}", e.keyword.keyword(), e.name.name);
                 if let Some(k) = &e.kind {
                     head += &format!(" {}", k.name);
                 }
                 self.open_block(item.span, head, 0);
                 for (n, p) in e.props.iter().enumerate() {
-                    self.statement(p.span, INDENT, n > 0, || {
-                        format!("{} {}", p.key.name, print::value(&p.value, INDENT))
+                    self.statement(p.span, inner, n > 0, || {
+                        format!("{} {}", p.key.name, print::value(&p.value, inner))
                     });
                 }
-                self.close_block(item.span);
+                self.close_block(item.span, base);
             }
             ItemKind::Loads(l) => self.loads(item.span, l),
+            ItemKind::Template(t) => {
+                let head_end = t.params_span.end as usize;
+                let head = if self.has_inner_comment(t.params_span) {
+                    let src = &self.text[item.span.start as usize..head_end];
+                    format!("{base}{}", src.trim_end())
+                } else {
+                    format!("{base}template {}({})", t.name.name, print::template_params(t))
+                };
+                self.open_block(item.span, head, head_end);
+                for (n, i) in t.items.iter().enumerate() {
+                    if n == 0 {
+                        // The first item follows the `{` without a blank line.
+                        self.force_blank = false;
+                    }
+                    self.item_at(i, inner);
+                }
+                self.close_block(item.span, base);
+            }
+            ItemKind::Instance(i) => {
+                self.statement(item.span, base, true, || print::instance(i))
+            }
         }
     }
 
@@ -323,7 +355,7 @@ impl Formatter<'_> {
                 }
             }
         }
-        self.close_block(span);
+        self.close_block(span, "");
     }
 }
 

@@ -121,3 +121,31 @@ pub fn table_rows(rows: &[Row], ncols: usize) -> Vec<String> {
         })
         .collect()
 }
+
+/// `p1, p2 = 30 N/mm`: a template's parameter list without its brackets.
+pub fn template_params(t: &TemplateDecl) -> String {
+    t.params
+        .iter()
+        .map(|p| match &p.default {
+            Some(d) => format!("{} = {}", p.name.name, expr(d)),
+            None => p.name.name.clone(),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// `instance front_right = mirror corner(k = 30 N/mm)`.
+pub fn instance(i: &InstanceDecl) -> String {
+    let args: Vec<String> = i
+        .args
+        .iter()
+        .map(|a| format!("{} = {}", a.name.name, expr(&a.value)))
+        .collect();
+    let mirror = if i.mirror { "mirror " } else { "" };
+    format!(
+        "instance {} = {mirror}{}({})",
+        i.name.name,
+        i.template.name,
+        args.join(", ")
+    )
+}

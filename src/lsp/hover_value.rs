@@ -116,6 +116,17 @@ fn each_number(item: &Item, f: &mut impl FnMut(&Num, Option<&UnitLit>)) {
                 }
             }
         },
+        ItemKind::Template(t) => {
+            for p in &t.params {
+                if let Some(d) = &p.default {
+                    expr(d, None, f);
+                }
+            }
+            for i in &t.items {
+                each_number(i, f);
+            }
+        }
+        ItemKind::Instance(i) => i.args.iter().for_each(|a| expr(&a.value, None, f)),
         ItemKind::Model(_) | ItemKind::Import(_) | ItemKind::DefaultLoads(_) => {}
     }
 }

@@ -162,6 +162,28 @@ pub fn symbols(doc: &Document) -> Vec<DocumentSymbol> {
                     children,
                 )
             }
+            ItemKind::Template(t) => symbol(
+                doc,
+                &t.name.name,
+                format!("template, {} parameters", t.params.len()),
+                SymbolKind::CLASS,
+                item.span,
+                t.name.span,
+                Vec::new(),
+            ),
+            ItemKind::Instance(i) => symbol(
+                doc,
+                &i.name.name,
+                format!(
+                    "instance of {}{}",
+                    if i.mirror { "mirror " } else { "" },
+                    i.template.name
+                ),
+                SymbolKind::OBJECT,
+                item.span,
+                i.name.span,
+                Vec::new(),
+            ),
         };
         out.push(s);
     }

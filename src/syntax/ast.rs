@@ -31,6 +31,48 @@ pub enum ItemKind {
     Part(PartDecl),
     Element(ElementDecl),
     Loads(LoadsDecl),
+    Template(TemplateDecl),
+    Instance(InstanceDecl),
+}
+
+/// `template NAME(p1, p2 = default) { items }`: a group of parts and elements
+/// stamped out by every `instance` of it (see `check::expand`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TemplateDecl {
+    pub name: Ident,
+    pub params: Vec<TemplateParam>,
+    /// The parameter list with its brackets.
+    pub params_span: Span,
+    /// Params, parts, elements and nested instances (never models, imports,
+    /// loads or templates).
+    pub items: Vec<Item>,
+}
+
+/// A template parameter, used in the body like a `param`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TemplateParam {
+    pub name: Ident,
+    pub default: Option<Expr>,
+    pub span: Span,
+}
+
+/// `instance NAME = [mirror] TEMPLATE(arg = value, ...)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InstanceDecl {
+    pub name: Ident,
+    /// Reflected about the vehicle xz plane (y -> -y).
+    pub mirror: bool,
+    pub template: Ident,
+    pub args: Vec<Argument>,
+    /// The argument list with its brackets.
+    pub args_span: Span,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Argument {
+    pub name: Ident,
+    pub value: Expr,
+    pub span: Span,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -158,7 +200,8 @@ impl Value {
     }
 }
 
-/// `part.marker`.
+/// `part.marker`; `part` may be qualified (`front_left.upright`), its span
+/// then covers every name before the marker.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MarkerRef {
     pub part: Ident,

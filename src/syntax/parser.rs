@@ -110,6 +110,62 @@ impl Builder {
                 let body = self.loads_body(next(&mut it));
                 ItemKind::Loads(LoadsDecl { name, body })
             }
+            Rule::template_decl => {
+                next(&mut it);
+                let name = self.ident(next(&mut it));
+                let ps = next(&mut it);
+                let params_span = self.span(&ps);
+                let params = ps
+                    .into_inner()
+                    .map(|q| {
+                        let span = self.span(&q);
+                        let mut qi = q.into_inner();
+                        let name = self.ident(next(&mut qi));
+                        let default = qi.next().map(|e| self.expr(e));
+                        TemplateParam {
+                            name,
+                            default,
+                            span,
+                        }
+                    })
+                    .collect();
+                let items = it.map(|i| self.item(i)).collect();
+                ItemKind::Template(TemplateDecl {
+                    name,
+                    params,
+                    params_span,
+                    items,
+                })
+            }
+            Rule::instance_decl => {
+                next(&mut it);
+                let name = self.ident(next(&mut it));
+                let mut t = next(&mut it);
+                let mirror = t.as_rule() == Rule::kw_mirror;
+                if mirror {
+                    t = next(&mut it);
+                }
+                let template = self.ident(t);
+                let a = next(&mut it);
+                let args_span = self.span(&a);
+                let args = a
+                    .into_inner()
+                    .map(|q| {
+                        let span = self.span(&q);
+                        let mut qi = q.into_inner();
+                        let name = self.ident(next(&mut qi));
+                        let value = self.expr(next(&mut qi));
+                        Argument { name, value, span }
+                    })
+                    .collect();
+                ItemKind::Instance(InstanceDecl {
+                    name,
+                    mirror,
+                    template,
+                    args,
+                    args_span,
+                })
+            }
             r => unreachable!("invariant: item rule {r:?}"),
         };
         Item { kind, span }
@@ -206,12 +262,23 @@ impl Builder {
         let span = self.span(&inner);
         match inner.as_rule() {
             Rule::marker_ref => {
-                let mut it = inner.into_inner();
-                Value::Ref(MarkerRef {
-                    part: self.ident(next(&mut it)),
-                    marker: self.ident(next(&mut it)),
+                let mut names: Vec<Ident> = inner.into_inner().map(|i| self.ident(i)).collect();
+                let marker = names.pop().unwrap_or_else(|| Ident {
+                    name: String::new(),
                     span,
-                })
+                });
+                let part = match (names.first(), names.last()) {
+                    (Some(first), Some(last)) => Ident {
+                        name: names
+                            .iter()
+                            .map(|n| n.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join("."),
+                        span: first.span.to(last.span),
+                    },
+                    _ => marker.clone(),
+                };
+                Value::Ref(MarkerRef { part, marker, span })
             }
             Rule::vector => Value::Vector(self.vector(inner)),
             Rule::list => Value::List(inner.into_inner().map(|e| self.expr(e)).collect(), span),

@@ -13,7 +13,7 @@ fn describe(rule: Rule) -> Option<&'static str> {
         unit | unit_name | unit_factor => "a unit such as `mm` or `N/mm`",
         eol | nls => "the end of the line",
         EOI => "the end of the file",
-        ident | param_ref => "a name",
+        ident | qname | param_ref => "a name",
         number | signed_number => "a number",
         quantity | expr | term | factor | power | paren | call | neg | bound | open_bound => {
             "a value such as `310 N/mm`"
@@ -28,8 +28,8 @@ fn describe(rule: Rule) -> Option<&'static str> {
         model_decl | import_decl | default_decl | param_decl | part_decl | element_decl
         | loads_decl | part_kw | element_kw | kw_model | kw_import | kw_default | kw_param
         | kw_ground | kw_part | kw_joint | kw_bushing | kw_spring | kw_stop | kw_friction
-        | kw_wheel | kw_loads => {
-            "an item (`model`, `import`, `default`, `param`, `ground`, `part`, `joint`, `bushing`, `spring`, `stop`, `friction`, `wheel` or `loads`)"
+        | kw_wheel | kw_loads | template_decl | instance_decl | kw_template | kw_instance => {
+            "an item (`model`, `import`, `default`, `param`, `ground`, `part`, `joint`, `bushing`, `spring`, `stop`, `friction`, `wheel`, `loads`, `template` or `instance`)"
         }
         kw_unknown | unknown => "`unknown`",
         bounds => "bounds such as `[100 N/mm, 900 N/mm]`",

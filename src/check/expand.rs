@@ -1,0 +1,559 @@
+//! Templates and instances → the flat list of items every later pass reads
+//! (the first step of `check`). Every name an instance declares becomes
+//! `INSTANCE.name` (`front_left.upright`, `front_left.B`); a reference inside a
+//! template resolves to the instance's own names first, then to the top-level
+//! ones. Template parameters are replaced by the instance's argument (or the
+//! default) in brackets. Mirroring is not done here: the names of the
+//! mirrored parts and ground markers are recorded and `Checker::mirror`
+//! reflects their checked frames.
+
+use crate::diagnostic::Diagnostic;
+use crate::span::Span;
+use crate::syntax::ast::*;
+use std::collections::{BTreeMap, BTreeSet};
+
+/// Instances nested deeper than this are reported as recursive.
+const MAX_DEPTH: usize = 16;
+
+/// The expanded file and what the checker needs to know about its instances.
+#[derive(Debug, Default)]
+pub(crate) struct Expansion {
+    /// Items without templates or instances.
+    pub items: Vec<Item>,
+    /// Parts (expanded names) of mirrored instances.
+    pub mirrored_parts: BTreeSet<String>,
+    /// `(ground, marker)` of the ground markers mirrored instances add.
+    pub mirrored_markers: BTreeSet<(String, String)>,
+    /// For every expanded instance: the span of its template's item, its
+    /// expanded name, its template's name and the instance line.
+    pub instances: Vec<(Span, String, String, Span)>,
+    pub problems: Vec<Diagnostic>,
+}
+
+/// Expands every instance of the file; `imported` holds the template items
+/// of the modules the file imports.
+pub(crate) fn expand(file: &File, imported: &[Item]) -> Expansion {
+    let mut templates: BTreeMap<&str, (&TemplateDecl, Span)> = BTreeMap::new();
+    let mut x = Expansion::default();
+    for item in imported.iter().chain(&file.items) {
+        if let ItemKind::Template(t) = &item.kind {
+            if let Some((first, _)) = templates.get(t.name.name.as_str()) {
+                x.problems.push(super::error::duplicate(
+                    "template",
+                    &t.name.name,
+                    t.name.span,
+                    first.name.span,
+                ));
+                continue;
+            }
+            templates.insert(&t.name.name, (t, item.span));
+        }
+    }
+    if templates.is_empty()
+        && !file
+            .items
+            .iter()
+            .any(|i| matches!(i.kind, ItemKind::Instance(_)))
+    {
+        x.items = file.items.clone();
+        return x;
+    }
+    // Top-level names an instance may not take (its expanded names would read
+    // like a marker of that part: `front_left.upright`).
+    let mut top: BTreeMap<&str, Span> = BTreeMap::new();
+    let mut ground = None;
+    for item in &file.items {
+        let name = match &item.kind {
+            ItemKind::Param(p) => &p.name,
+            ItemKind::Part(p) => {
+                if p.ground && ground.is_none() {
+                    ground = Some(p.name.name.clone());
+                }
+                &p.name
+            }
+            ItemKind::Element(e) => &e.name,
+            ItemKind::Loads(l) => &l.name,
+            ItemKind::Template(t) => &t.name,
+            _ => continue,
+        };
+        top.entry(&name.name).or_insert(name.span);
+    }
+    let mut ex = Expander {
+        templates,
+        ground,
+        out: &mut x,
+        extensions: Vec::new(),
+        seen: BTreeMap::new(),
+    };
+    let mut items = Vec::new();
+    for item in &file.items {
+        match &item.kind {
+            ItemKind::Template(_) => {}
+            ItemKind::Instance(i) => {
+                if let Some(first) = top.get(i.name.name.as_str()) {
+                    ex.out.problems.push(
+                        Diagnostic::error(
+                            "E0115",
+                            format!("instance `{}` has the name of a top-level item", i.name.name),
+                        )
+                        .primary(i.name.span, "instance named here")
+                        .secondary(*first, "the top-level item with this name")
+                        .note(format!(
+                            "the instance's names would read `{}.NAME`, like a marker of that item",
+                            i.name.name
+                        ))
+                        .hint("rename the instance or the item"),
+                    );
+                    continue;
+                }
+                ex.instance(i, item.span, "", false, &[], &Scope::default(), &mut items);
+            }
+            _ => items.push(item.clone()),
+        }
+    }
+    // Markers instances add to the ground go at the end of the ground's block.
+    let extensions = std::mem::take(&mut ex.extensions);
+    for (ground, pi) in extensions {
+        let target = items.iter_mut().find_map(|i| match &mut i.kind {
+            ItemKind::Part(p) if p.ground && p.name.name == ground => Some(p),
+            _ => None,
+        });
+        if let Some(p) = target {
+            p.items.push(pi);
+        }
+    }
+    x.items = items;
+    x
+}
+
+/// The names of one instance: template parameters → their values, local
+/// names → expanded names.
+#[derive(Default, Clone)]
+struct Scope {
+    args: BTreeMap<String, Expr>,
+    /// Params, elements and nested instances.
+    names: BTreeMap<String, String>,
+    parts: BTreeMap<String, String>,
+    /// The template's `ground` block name and the markers it adds.
+    ground: Option<(String, BTreeMap<String, String>)>,
+}
+
+struct Expander<'a> {
+    templates: BTreeMap<&'a str, (&'a TemplateDecl, Span)>,
+    ground: Option<String>,
+    out: &'a mut Expansion,
+    /// `(ground, marker or landmark)` added by instances.
+    extensions: Vec<(String, PartItem)>,
+    /// Expanded instance names → their name's span, for duplicates.
+    seen: BTreeMap<String, Span>,
+}
+
+impl Expander<'_> {
+    /// Expands `i` (declared in `outer`'s scope) under `prefix`.
+    #[allow(clippy::too_many_arguments)]
+    fn instance(
+        &mut self,
+        i: &InstanceDecl,
+        span: Span,
+        prefix: &str,
+        mirrored: bool,
+        stack: &[(String, Span)],
+        outer: &Scope,
+        items: &mut Vec<Item>,
+    ) {
+        let full = format!("{prefix}{}", i.name.name);
+        if let Some(first) = self.seen.get(&full) {
+            self.out
+                .problems
+                .push(super::error::duplicate("instance", &full, i.name.span, *first));
+            return;
+        }
+        self.seen.insert(full.clone(), i.name.span);
+        let Some(&(t, t_span)) = self.templates.get(i.template.name.as_str()) else {
+            let names: Vec<&str> = self.templates.keys().copied().collect();
+            self.out.problems.push(
+                super::error::unknown_name("template", &i.template.name, i.template.span, names)
+                    .note("templates are declared with `template NAME(params) { ... }`"),
+            );
+            return;
+        };
+        if stack.iter().any(|(n, _)| n == &t.name.name) || stack.len() > MAX_DEPTH {
+            let chain: Vec<&str> = stack
+                .iter()
+                .map(|(n, _)| n.as_str())
+                .chain([t.name.name.as_str()])
+                .collect();
+            let mut d = Diagnostic::error(
+                "E0112",
+                format!("template `{}` instances itself", t.name.name),
+            )
+            .primary(i.template.span, "instanced again here")
+            .note(format!("the chain of instances: {}", chain.join(" -> ")))
+            .hint("a template cannot contain an instance of itself, directly or through another template");
+            if let Some((_, first)) = stack.first() {
+                d = d.secondary(*first, "the outermost instance");
+            }
+            self.out.problems.push(d);
+            return;
+        }
+        // Arguments.
+        let mut args: BTreeMap<String, Expr> = BTreeMap::new();
+        let mut ok = true;
+        for a in &i.args {
+            if !t.params.iter().any(|p| p.name.name == a.name.name) {
+                let names: Vec<&str> = t.params.iter().map(|p| p.name.name.as_str()).collect();
+                self.out.problems.push(
+                    Diagnostic::error(
+                        "E0114",
+                        format!("template `{}` has no parameter `{}`", t.name.name, a.name.name),
+                    )
+                    .primary(a.name.span, "no such parameter")
+                    .secondary(t.params_span, "the template's parameters")
+                    .did_you_mean(a.name.span, &a.name.name, names),
+                );
+                ok = false;
+                continue;
+            }
+            if args.contains_key(&a.name.name) {
+                self.out.problems.push(
+                    Diagnostic::error("E0114", format!("argument `{}` is given twice", a.name.name))
+                        .primary(a.span, "given again here")
+                        .secondary(t.params_span, "the template's parameters"),
+                );
+                ok = false;
+                continue;
+            }
+            args.insert(a.name.name.clone(), rewrite_expr(&a.value, outer));
+        }
+        for p in &t.params {
+            if args.contains_key(&p.name.name) {
+                continue;
+            }
+            match &p.default {
+                Some(d) => {
+                    args.insert(p.name.name.clone(), rewrite_expr(d, &Scope::default()));
+                }
+                None => {
+                    self.out.problems.push(
+                        Diagnostic::error(
+                            "E0113",
+                            format!(
+                                "instance `{full}` does not give parameter `{}` of template `{}`",
+                                p.name.name, t.name.name
+                            ),
+                        )
+                        .primary(i.args_span, format!("`{}` missing here", p.name.name))
+                        .secondary(p.span, "a parameter without a default")
+                        .hint(format!("add `{} = VALUE` to the arguments", p.name.name)),
+                    );
+                    ok = false;
+                }
+            }
+        }
+        if !ok {
+            return;
+        }
+        self.out
+            .instances
+            .push((t_span, full.clone(), t.name.name.clone(), span));
+        let mirrored = mirrored ^ i.mirror;
+        // The instance's own names.
+        let mut scope = Scope {
+            args: args
+                .into_iter()
+                .map(|(n, e)| {
+                    let span = e.span;
+                    let paren = Expr {
+                        kind: ExprKind::Paren(Box::new(e)),
+                        span,
+                    };
+                    (n, paren)
+                })
+                .collect(),
+            ..Scope::default()
+        };
+        for item in &t.items {
+            let q = |n: &Ident| (n.name.clone(), format!("{full}.{}", n.name));
+            match &item.kind {
+                ItemKind::Part(p) if p.ground => {
+                    let markers = p
+                        .items
+                        .iter()
+                        .map(|pi| match pi {
+                            PartItem::Marker(m) => q(&m.name),
+                            PartItem::Landmark(l) => q(&l.name),
+                        })
+                        .collect();
+                    scope.ground = Some((p.name.name.clone(), markers));
+                }
+                ItemKind::Part(p) => {
+                    scope.parts.insert(q(&p.name).0, q(&p.name).1);
+                }
+                ItemKind::Param(p) => {
+                    scope.names.insert(q(&p.name).0, q(&p.name).1);
+                }
+                ItemKind::Element(e) => {
+                    scope.names.insert(q(&e.name).0, q(&e.name).1);
+                }
+                _ => {}
+            }
+        }
+        let mut stack = stack.to_vec();
+        stack.push((t.name.name.clone(), i.template.span));
+        for item in &t.items {
+            let renamed = |n: &Ident, map: &BTreeMap<String, String>| Ident {
+                name: map.get(&n.name).cloned().unwrap_or_else(|| n.name.clone()),
+                span: n.span,
+            };
+            match &item.kind {
+                ItemKind::Part(p) if p.ground => {
+                    let Some(g) = self.ground.clone().filter(|g| *g == p.name.name) else {
+                        self.out.problems.push(
+                            Diagnostic::error(
+                                "E0116",
+                                format!(
+                                    "template `{}` adds markers to ground `{}`, which the model does not have",
+                                    t.name.name, p.name.name
+                                ),
+                            )
+                            .primary(p.name.span, "not the model's ground")
+                            .hint(match &self.ground {
+                                Some(g) => format!("the model's ground is `{g}`"),
+                                None => "declare the ground (`ground chassis { ... }`) outside the template".into(),
+                            }),
+                        );
+                        continue;
+                    };
+                    for pi in &p.items {
+                        let pi = rewrite_part_item(pi, &scope, &full);
+                        if mirrored {
+                            let name = match &pi {
+                                PartItem::Marker(m) => m.name.name.clone(),
+                                PartItem::Landmark(l) => l.name.name.clone(),
+                            };
+                            self.out.mirrored_markers.insert((g.clone(), name));
+                        }
+                        self.extensions.push((g.clone(), pi));
+                    }
+                }
+                ItemKind::Part(p) => {
+                    let name = renamed(&p.name, &scope.parts);
+                    if mirrored {
+                        self.out.mirrored_parts.insert(name.name.clone());
+                    }
+                    let decl = PartDecl {
+                        ground: false,
+                        keyword_span: p.keyword_span,
+                        name,
+                        items: p
+                            .items
+                            .iter()
+                            .map(|pi| rewrite_part_item(pi, &scope, ""))
+                            .collect(),
+                    };
+                    items.push(Item {
+                        kind: ItemKind::Part(decl),
+                        span: item.span,
+                    });
+                }
+                ItemKind::Param(p) => {
+                    let decl = ParamDecl {
+                        name: renamed(&p.name, &scope.names),
+                        value: rewrite_expr(&p.value, &scope),
+                        unknown: p.unknown.as_ref().map(|u| Unknown {
+                            bounds: u.bounds.as_ref().map(|(lo, hi)| {
+                                (
+                                    lo.as_ref().map(|e| rewrite_expr(e, &scope)),
+                                    hi.as_ref().map(|e| rewrite_expr(e, &scope)),
+                                )
+                            }),
+                            span: u.span,
+                        }),
+                    };
+                    items.push(Item {
+                        kind: ItemKind::Param(decl),
+                        span: item.span,
+                    });
+                }
+                ItemKind::Element(e) => {
+                    let decl = ElementDecl {
+                        keyword: e.keyword,
+                        name: renamed(&e.name, &scope.names),
+                        kind: e.kind.clone(),
+                        props: e
+                            .props
+                            .iter()
+                            .map(|p| Property {
+                                key: p.key.clone(),
+                                value: rewrite_value(&p.value, &scope),
+                                span: p.span,
+                            })
+                            .collect(),
+                    };
+                    items.push(Item {
+                        kind: ItemKind::Element(decl),
+                        span: item.span,
+                    });
+                }
+                ItemKind::Instance(inner) => {
+                    let prefix = format!("{full}.");
+                    self.instance(inner, item.span, &prefix, mirrored, &stack, &scope, items);
+                }
+                // The grammar admits nothing else in a template.
+                _ => {}
+            }
+        }
+    }
+}
+
+fn rewrite_part_item(pi: &PartItem, scope: &Scope, prefix: &str) -> PartItem {
+    let name = |n: &Ident| Ident {
+        name: if prefix.is_empty() {
+            n.name.clone()
+        } else {
+            format!("{prefix}.{}", n.name)
+        },
+        span: n.span,
+    };
+    match pi {
+        PartItem::Marker(m) => PartItem::Marker(MarkerDecl {
+            name: name(&m.name),
+            at: rewrite_vector(&m.at, scope),
+            orient: m.orient.as_ref().map(|o| match o {
+                Orient::Euler(v) => Orient::Euler(rewrite_vector(v, scope)),
+                Orient::Directions { z, x } => Orient::Directions {
+                    z: rewrite_vector(z, scope),
+                    x: x.as_ref().map(|x| rewrite_vector(x, scope)),
+                },
+            }),
+            span: m.span,
+        }),
+        PartItem::Landmark(l) => PartItem::Landmark(LandmarkDecl {
+            name: name(&l.name),
+            at: rewrite_vector(&l.at, scope),
+            span: l.span,
+        }),
+    }
+}
+
+fn rewrite_vector(v: &Vector, scope: &Scope) -> Vector {
+    Vector {
+        comps: [
+            rewrite_expr(&v.comps[0], scope),
+            rewrite_expr(&v.comps[1], scope),
+            rewrite_expr(&v.comps[2], scope),
+        ],
+        unit: v.unit.clone(),
+        span: v.span,
+    }
+}
+
+fn rewrite_value(v: &Value, scope: &Scope) -> Value {
+    match v {
+        Value::Ref(r) => {
+            let own_ground = scope
+                .ground
+                .as_ref()
+                .filter(|(g, _)| *g == r.part.name)
+                .and_then(|(_, ms)| ms.get(&r.marker.name));
+            let (part, marker) = if let Some(p) = scope.parts.get(&r.part.name) {
+                (p.clone(), r.marker.name.clone())
+            } else if let Some(m) = own_ground {
+                (r.part.name.clone(), m.clone())
+            } else {
+                (r.part.name.clone(), r.marker.name.clone())
+            };
+            Value::Ref(MarkerRef {
+                part: Ident {
+                    name: part,
+                    span: r.part.span,
+                },
+                marker: Ident {
+                    name: marker,
+                    span: r.marker.span,
+                },
+                span: r.span,
+            })
+        }
+        Value::Vector(x) => Value::Vector(rewrite_vector(x, scope)),
+        Value::List(es, s) => Value::List(es.iter().map(|e| rewrite_expr(e, scope)).collect(), *s),
+        Value::Table(t) => Value::Table(t.clone()),
+        Value::Expr(e) => Value::Expr(rewrite_expr(e, scope)),
+    }
+}
+
+fn rewrite_expr(e: &Expr, scope: &Scope) -> Expr {
+    let b = |x: &Expr| Box::new(rewrite_expr(x, scope));
+    let kind = match &e.kind {
+        ExprKind::Param(id) => {
+            if let Some(v) = scope.args.get(&id.name) {
+                return v.clone();
+            }
+            ExprKind::Param(Ident {
+                name: scope
+                    .names
+                    .get(&id.name)
+                    .cloned()
+                    .unwrap_or_else(|| id.name.clone()),
+                span: id.span,
+            })
+        }
+        ExprKind::Quantity { .. } => e.kind.clone(),
+        ExprKind::Neg(a) => ExprKind::Neg(b(a)),
+        ExprKind::Binary(op, l, r) => ExprKind::Binary(*op, b(l), b(r)),
+        ExprKind::Pow(a, n) => ExprKind::Pow(b(a), n.clone()),
+        ExprKind::Call(f, args) => {
+            ExprKind::Call(f.clone(), args.iter().map(|a| rewrite_expr(a, scope)).collect())
+        }
+        ExprKind::Paren(a) => ExprKind::Paren(b(a)),
+    };
+    Expr { kind, span: e.span }
+}
+
+/// Points the diagnostics about a template's body at the instances they come
+/// from: one copy per distinct diagnostic, with a label at the instance (at
+/// every instance of the template when the message names none).
+pub(crate) fn attribute(list: Vec<Diagnostic>, instances: &[(Span, String, String, Span)]) -> Vec<Diagnostic> {
+    if instances.is_empty() {
+        return list;
+    }
+    let mut out: Vec<Diagnostic> = Vec::new();
+    for mut d in list {
+        let key = |d: &Diagnostic| {
+            (
+                d.code,
+                d.message.clone(),
+                d.labels.iter().find(|l| l.primary).map(|l| l.span),
+            )
+        };
+        if out.iter().any(|o| key(o) == key(&d)) {
+            continue;
+        }
+        let Some(primary) = d.labels.iter().find(|l| l.primary).map(|l| l.span) else {
+            out.push(d);
+            continue;
+        };
+        let inside: Vec<&(Span, String, String, Span)> = instances
+            .iter()
+            .filter(|(t, ..)| t.file == primary.file && t.start <= primary.start && primary.end <= t.end)
+            .collect();
+        if !inside.is_empty() {
+            let text = format!(
+                "{} {}",
+                d.message,
+                d.labels.iter().map(|l| l.message.as_str()).collect::<Vec<_>>().join(" ")
+            );
+            let named: Vec<_> = inside
+                .iter()
+                .filter(|(_, n, ..)| text.contains(&format!("`{n}.")))
+                .copied()
+                .collect();
+            let which = if named.is_empty() { inside } else { named };
+            for (_, name, template, at) in which {
+                d = d.secondary(*at, format!("in instance `{name}` of template `{template}`"));
+            }
+        }
+        out.push(d);
+    }
+    out
+}
