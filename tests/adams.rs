@@ -107,7 +107,10 @@ fn has_qualified_names(m: &Model) -> bool {
 
 #[test]
 fn emit_import_emit_is_a_fixed_point() {
-    for (name, m) in examples().into_iter().filter(|(_, m)| !has_qualified_names(m)) {
+    for (name, m) in examples()
+        .into_iter()
+        .filter(|(_, m)| !has_qualified_names(m))
+    {
         let first = adm(&m);
         let again = adm(&import(&first));
         assert_eq!(first, again, "{name}");
@@ -163,7 +166,10 @@ fn same_equilibria(name: &str, a: &Model, b: &Model) {
 
 #[test]
 fn imported_models_reach_the_same_equilibria() {
-    for (name, m) in examples().into_iter().filter(|(_, m)| !has_qualified_names(m)) {
+    for (name, m) in examples()
+        .into_iter()
+        .filter(|(_, m)| !has_qualified_names(m))
+    {
         let back = import(&adm(&m));
         same_equilibria(&name, &m, &back);
     }

@@ -36,7 +36,10 @@ fn an_instance_expands_to_the_named_parts_and_ground_markers() {
     let m = model("examples/front_axle.axle");
     for side in ["front_left", "front_right"] {
         for part in ["front_arm", "rear_arm", "tie_rod", "strut", "upright"] {
-            assert!(m.part_named(&format!("{side}.{part}")).is_some(), "{side}.{part}");
+            assert!(
+                m.part_named(&format!("{side}.{part}")).is_some(),
+                "{side}.{part}"
+            );
         }
         assert!(m.wheels.iter().any(|w| w.name == format!("{side}.wheel")));
     }
@@ -62,7 +65,9 @@ fn an_instance_expands_to_the_named_parts_and_ground_markers() {
             (format!("front_left.{part}"), mk.name.clone())
         };
         let pid = m.part_named(&p).expect("part");
-        let id = m.marker_named(pid, &name).unwrap_or_else(|| panic!("{p}.{name}"));
+        let id = m
+            .marker_named(pid, &name)
+            .unwrap_or_else(|| panic!("{p}.{name}"));
         let x = &m.markers[id.index()];
         assert_eq!(x.origin(), mk.origin(), "{p}.{name}");
         assert_eq!(x.rotation, mk.rotation, "{p}.{name}");
@@ -91,7 +96,10 @@ fn the_left_corner_of_the_axle_solves_as_the_single_corner() {
             worst.1 = worst.1.max((ra - rs).norm());
         }
     }
-    eprintln!("largest difference: {:.2e} mm, {:.2e} (rotation)", worst.0, worst.1);
+    eprintln!(
+        "largest difference: {:.2e} mm, {:.2e} (rotation)",
+        worst.0, worst.1
+    );
     assert!(worst.0 < 1e-9 && worst.1 < 1e-12, "{worst:?}");
 }
 
@@ -126,7 +134,10 @@ fn the_mirrored_corner_under_mirrored_loads_is_the_mirror_image() {
         "mirror misfit: {:.2e} mm, {:.2e} (rotation), wheel centre {:.2e} mm",
         worst.0, worst.1, worst.2
     );
-    assert!(worst.0 < 1e-8 && worst.1 < 1e-10 && worst.2 < 1e-8, "{worst:?}");
+    assert!(
+        worst.0 < 1e-8 && worst.1 < 1e-10 && worst.2 < 1e-8,
+        "{worst:?}"
+    );
 }
 
 /// A template parameter is per instance (an argument overrides the default

@@ -94,7 +94,10 @@ pub(crate) fn expand(file: &File, imported: &[Item]) -> Expansion {
                     ex.out.problems.push(
                         Diagnostic::error(
                             "E0115",
-                            format!("instance `{}` has the name of a top-level item", i.name.name),
+                            format!(
+                                "instance `{}` has the name of a top-level item",
+                                i.name.name
+                            ),
                         )
                         .primary(i.name.span, "instance named here")
                         .secondary(*first, "the top-level item with this name")
@@ -163,9 +166,12 @@ impl Expander<'_> {
     ) {
         let full = format!("{prefix}{}", i.name.name);
         if let Some(first) = self.seen.get(&full) {
-            self.out
-                .problems
-                .push(super::error::duplicate("instance", &full, i.name.span, *first));
+            self.out.problems.push(super::error::duplicate(
+                "instance",
+                &full,
+                i.name.span,
+                *first,
+            ));
             return;
         }
         self.seen.insert(full.clone(), i.name.span);
@@ -205,7 +211,10 @@ impl Expander<'_> {
                 self.out.problems.push(
                     Diagnostic::error(
                         "E0114",
-                        format!("template `{}` has no parameter `{}`", t.name.name, a.name.name),
+                        format!(
+                            "template `{}` has no parameter `{}`",
+                            t.name.name, a.name.name
+                        ),
                     )
                     .primary(a.name.span, "no such parameter")
                     .secondary(t.params_span, "the template's parameters")
@@ -216,9 +225,12 @@ impl Expander<'_> {
             }
             if args.contains_key(&a.name.name) {
                 self.out.problems.push(
-                    Diagnostic::error("E0114", format!("argument `{}` is given twice", a.name.name))
-                        .primary(a.span, "given again here")
-                        .secondary(t.params_span, "the template's parameters"),
+                    Diagnostic::error(
+                        "E0114",
+                        format!("argument `{}` is given twice", a.name.name),
+                    )
+                    .primary(a.span, "given again here")
+                    .secondary(t.params_span, "the template's parameters"),
                 );
                 ok = false;
                 continue;
@@ -276,25 +288,12 @@ impl Expander<'_> {
             let q = |n: &Ident| (n.name.clone(), format!("{full}.{}", n.name));
             match &item.kind {
                 ItemKind::Part(p) if p.ground => {
-                    let markers = p
-                        .items
-                        .iter()
-                        .map(|pi| match pi {
-                            PartItem::Marker(m) => q(&m.name),
-                            PartItem::Landmark(l) => q(&l.name),
-                        })
-                        .collect();
+                    let markers = p.items.iter().map(|pi| q(pi.name())).collect();
                     scope.ground = Some((p.name.name.clone(), markers));
                 }
-                ItemKind::Part(p) => {
-                    scope.parts.insert(q(&p.name).0, q(&p.name).1);
-                }
-                ItemKind::Param(p) => {
-                    scope.names.insert(q(&p.name).0, q(&p.name).1);
-                }
-                ItemKind::Element(e) => {
-                    scope.names.insert(q(&e.name).0, q(&e.name).1);
-                }
+                ItemKind::Part(p) => scope.parts.extend([q(&p.name)]),
+                ItemKind::Param(p) => scope.names.extend([q(&p.name)]),
+                ItemKind::Element(e) => scope.names.extend([q(&e.name)]),
                 _ => {}
             }
         }
@@ -327,10 +326,7 @@ impl Expander<'_> {
                     for pi in &p.items {
                         let pi = rewrite_part_item(pi, &scope, &full);
                         if mirrored {
-                            let name = match &pi {
-                                PartItem::Marker(m) => m.name.name.clone(),
-                                PartItem::Landmark(l) => l.name.name.clone(),
-                            };
+                            let name = pi.name().name.clone();
                             self.out.mirrored_markers.insert((g.clone(), name));
                         }
                         self.extensions.push((g.clone(), pi));
@@ -502,9 +498,10 @@ fn rewrite_expr(e: &Expr, scope: &Scope) -> Expr {
         ExprKind::Neg(a) => ExprKind::Neg(b(a)),
         ExprKind::Binary(op, l, r) => ExprKind::Binary(*op, b(l), b(r)),
         ExprKind::Pow(a, n) => ExprKind::Pow(b(a), n.clone()),
-        ExprKind::Call(f, args) => {
-            ExprKind::Call(f.clone(), args.iter().map(|a| rewrite_expr(a, scope)).collect())
-        }
+        ExprKind::Call(f, args) => ExprKind::Call(
+            f.clone(),
+            args.iter().map(|a| rewrite_expr(a, scope)).collect(),
+        ),
         ExprKind::Paren(a) => ExprKind::Paren(b(a)),
     };
     Expr { kind, span: e.span }
@@ -513,7 +510,10 @@ fn rewrite_expr(e: &Expr, scope: &Scope) -> Expr {
 /// Points the diagnostics about a template's body at the instances they come
 /// from: one copy per distinct diagnostic, with a label at the instance (at
 /// every instance of the template when the message names none).
-pub(crate) fn attribute(list: Vec<Diagnostic>, instances: &[(Span, String, String, Span)]) -> Vec<Diagnostic> {
+pub(crate) fn attribute(
+    list: Vec<Diagnostic>,
+    instances: &[(Span, String, String, Span)],
+) -> Vec<Diagnostic> {
     if instances.is_empty() {
         return list;
     }
@@ -535,13 +535,19 @@ pub(crate) fn attribute(list: Vec<Diagnostic>, instances: &[(Span, String, Strin
         };
         let inside: Vec<&(Span, String, String, Span)> = instances
             .iter()
-            .filter(|(t, ..)| t.file == primary.file && t.start <= primary.start && primary.end <= t.end)
+            .filter(|(t, ..)| {
+                t.file == primary.file && t.start <= primary.start && primary.end <= t.end
+            })
             .collect();
         if !inside.is_empty() {
             let text = format!(
                 "{} {}",
                 d.message,
-                d.labels.iter().map(|l| l.message.as_str()).collect::<Vec<_>>().join(" ")
+                d.labels
+                    .iter()
+                    .map(|l| l.message.as_str())
+                    .collect::<Vec<_>>()
+                    .join(" ")
             );
             let named: Vec<_> = inside
                 .iter()
@@ -550,7 +556,10 @@ pub(crate) fn attribute(list: Vec<Diagnostic>, instances: &[(Span, String, Strin
                 .collect();
             let which = if named.is_empty() { inside } else { named };
             for (_, name, template, at) in which {
-                d = d.secondary(*at, format!("in instance `{name}` of template `{template}`"));
+                d = d.secondary(
+                    *at,
+                    format!("in instance `{name}` of template `{template}`"),
+                );
             }
         }
         out.push(d);

@@ -168,7 +168,7 @@ impl Checker {
             1 => LoadTarget::Wheel(self.default_wheel(c.span, set)?),
             n if n == 2 || self.wheel_named(&c.path[..n - 1]).is_some() => {
                 let w = &c.path[..n - 1].join(".");
-                match self.model.wheels.iter().position(|x| &x.name == w) {
+                match self.wheel_named(&c.path[..n - 1]) {
                     Some(i) => {
                         let at = Span::new(
                             c.span.file,

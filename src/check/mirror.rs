@@ -37,7 +37,9 @@ impl Checker {
         let mirrored = |part: crate::model::PartId, name: &str| {
             let p = &parts[part.index()].name;
             self.mirrored_parts.contains(p)
-                || self.mirrored_markers.contains(&(p.clone(), name.to_string()))
+                || self
+                    .mirrored_markers
+                    .contains(&(p.clone(), name.to_string()))
         };
         for m in &mut self.model.markers {
             if !mirrored(m.part, &m.name) {

@@ -262,9 +262,9 @@ impl Formatter<'_> {
             ItemKind::Import(n) => {
                 self.statement(item.span, base, true, || format!("import {}", n.name))
             }
-            ItemKind::DefaultLoads(n) => {
-                self.statement(item.span, base, true, || format!("default loads {}", n.name))
-            }
+            ItemKind::DefaultLoads(n) => self.statement(item.span, base, true, || {
+                format!("default loads {}", n.name)
+            }),
             ItemKind::Param(p) => self.statement(item.span, base, true, || print::param(p)),
             ItemKind::Part(p) => {
                 let kw = if p.ground { "ground" } else { "part" };
@@ -302,7 +302,11 @@ impl Formatter<'_> {
                     let src = &self.text[item.span.start as usize..head_end];
                     format!("{base}{}", src.trim_end())
                 } else {
-                    format!("{base}template {}({})", t.name.name, print::template_params(t))
+                    format!(
+                        "{base}template {}({})",
+                        t.name.name,
+                        print::template_params(t)
+                    )
                 };
                 self.open_block(item.span, head, head_end);
                 for (n, i) in t.items.iter().enumerate() {
@@ -314,9 +318,7 @@ impl Formatter<'_> {
                 }
                 self.close_block(item.span, base);
             }
-            ItemKind::Instance(i) => {
-                self.statement(item.span, base, true, || print::instance(i))
-            }
+            ItemKind::Instance(i) => self.statement(item.span, base, true, || print::instance(i)),
         }
     }
 

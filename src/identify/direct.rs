@@ -20,8 +20,8 @@ use super::{
 use crate::model::address::Address;
 use crate::model::schema::FieldId;
 use crate::model::{ElementId, Model};
+use crate::statics::assembly::col_scale;
 use crate::statics::coords::Layout;
-use crate::statics::newton::col_scale;
 use crate::statics::redundancy::scaled_jacobian;
 use crate::statics::{Problem, constraint};
 use nalgebra::{DMatrix, DVector};

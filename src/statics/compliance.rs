@@ -1,10 +1,11 @@
 //! Linearised compliance at an equilibrium: how a marker moves under a small
 //! extra wrench, from the same Newton matrix (constraints included).
 
+use super::assembly::{assemble, col_scale};
 use super::coords::marker_kin;
 use super::error::{StaticsError, StaticsErrorKind};
 use super::forces::point_load;
-use super::newton::{assemble, col_scale, kkt, solve_dense};
+use super::newton::{kkt, solve_dense};
 use super::{Equilibrium, Problem};
 use crate::geom::Vec3;
 use crate::model::{ElementId, MarkerId, PointLoad};

@@ -8,6 +8,7 @@
 //! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`path`] (the
 //! one load-path simulator), [`sensitivity`] (derivatives of equilibria).
 
+pub mod assembly;
 pub mod batch;
 pub mod blocks;
 pub mod compliance;
@@ -35,9 +36,10 @@ pub use sensitivity::{CaseSensitivity, Parameter};
 
 use crate::geom::Vec3;
 use crate::model::{ElementId, JointId, LoadSetId, Model, PointLoad};
+use assembly::{assemble, errors};
 use constraint::Equation;
 use coords::Layout;
-use newton::{Failure, Homotopy, Solver, assemble, errors, newton};
+use newton::{Failure, Homotopy, Solver, newton};
 use redundancy::{independence, scaled_jacobian};
 
 /// A model compiled for the statics backend: coordinate layout, constraint
@@ -282,7 +284,7 @@ pub(crate) fn solve_reusing(
         let l = interpolate(&from, loads, target);
         let (r0, phi0) = if target < 1.0 {
             if start_residual.is_none() {
-                let mut w0 = newton::Workspace::new(problem);
+                let mut w0 = assembly::Workspace::new(problem);
                 w0.eval(problem, start, &from, false)?;
                 start_residual = Some((w0.r, w0.phi));
             }

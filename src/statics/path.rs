@@ -16,7 +16,8 @@
 //! from the path's own previous case, so path-dependent physics is the same
 //! as along a cold path.
 
-use super::newton::{Solver, Workspace};
+use super::assembly::Workspace;
+use super::newton::Solver;
 use super::sensitivity::{self, CaseSensitivity, Parameter};
 use super::{Equilibrium, Problem, State, StaticsError, StaticsErrorKind, solve_reusing};
 use crate::model::{LoadSetId, Model, PointLoad};

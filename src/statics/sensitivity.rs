@@ -24,8 +24,9 @@
 //! today's [`Address`], identification's unknowns, and the general addresses
 //! of the schema work.
 
+use super::assembly::{Workspace, col_scale};
 use super::coords::State;
-use super::newton::{Solver, Workspace, col_scale};
+use super::newton::Solver;
 use super::{Problem, StaticsError, StaticsErrorKind, forces};
 use crate::geom::{Mat3, Vec3, skew};
 use crate::model::address::Address;

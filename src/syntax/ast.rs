@@ -104,6 +104,16 @@ pub enum PartItem {
     Landmark(LandmarkDecl),
 }
 
+impl PartItem {
+    /// The marker's or landmark's name.
+    pub fn name(&self) -> &Ident {
+        match self {
+            PartItem::Marker(m) => &m.name,
+            PartItem::Landmark(l) => &l.name,
+        }
+    }
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct MarkerDecl {
     pub name: Ident,

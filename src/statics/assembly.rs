@@ -1,0 +1,265 @@
+//! The scaled residual and Newton matrix of the equilibrium equations at one
+//! state: every element's, load's and constraint's wrench evaluated and
+//! scattered into buffers kept from one evaluation to the next (see
+//! [`super::newton`] for the scaling and the loop that uses them).
+
+use super::Problem;
+use super::constraint::{evaluate_at, is_length, joint_markers};
+use super::coords::{MarkerKin, State};
+use super::error::StaticsError;
+use super::forces::{for_each_element, point_load};
+use super::newton::Homotopy;
+use super::wrench::Wrench;
+use crate::geom::Vec3;
+use crate::model::{JointId, PointLoad};
+use faer::Mat;
+use nalgebra::{DMatrix, DVector};
+/// The scaled residual and its derivative at one state.
+pub(crate) struct System {
+    /// `S (Q + Phi_q^T λ)`: forces (N) and moments divided by the length (N).
+    pub r: DVector<f64>,
+    /// `S K S` with `K` the derivative of the residual.
+    pub k: DMatrix<f64>,
+    /// Scaled Jacobian of the kept equations and their scaled values (mm).
+    pub jac: DMatrix<f64>,
+    pub phi: DVector<f64>,
+}
+
+/// `diag(1, 1, 1, 1/L, 1/L, 1/L, ...)`: the scaling of coordinates and rows.
+pub(crate) fn col_scale(c: usize, length: f64) -> f64 {
+    if c % 6 >= 3 { 1.0 / length } else { 1.0 }
+}
+
+/// The scaled residual and Newton matrix at one state, in buffers reused from
+/// one evaluation to the next.
+pub(crate) struct Workspace {
+    /// Scaled residual `S (Q + Phi_q^T λ)` (n).
+    pub r: Vec<f64>,
+    /// Kept constraint values divided by their row scale (m, mm).
+    pub phi: Vec<f64>,
+    pub row_scale: Vec<f64>,
+    /// Force and torque of each kept equation's unit reaction (its wrench's
+    /// `g` and `m`, unscaled): times λ, the joint reactions at the state.
+    pub unit_reaction: Vec<(Vec3, Vec3)>,
+    /// `[S K S, J^T; J, 0]`, filled when the tangent is asked for.
+    pub a: Mat<f64>,
+    /// Largest element force (force plus moment over the length) at the state, N.
+    pub element_scale: f64,
+    /// Largest applied load (force plus moment over the length) evaluated, N.
+    pub load_scale: f64,
+    /// The coordinate scaling `col_scale` of each coordinate.
+    pub(crate) scale: Vec<f64>,
+}
+
+impl Workspace {
+    pub fn new(p: &Problem) -> Workspace {
+        let (n, m) = (p.layout.n(), p.kept.len());
+        Workspace {
+            r: vec![0.0; n],
+            phi: vec![0.0; m],
+            row_scale: vec![1.0; m],
+            unit_reaction: vec![(Vec3::zeros(), Vec3::zeros()); m],
+            a: Mat::zeros(n + m, n + m),
+            element_scale: 0.0,
+            load_scale: 0.0,
+            scale: (0..n).map(|c| col_scale(c, p.length)).collect(),
+        }
+    }
+
+    /// Evaluates the residual at `st` under `loads`, and the Newton matrix when
+    /// `tangent` is set (otherwise `a` is left as it was).
+    pub fn eval(
+        &mut self,
+        p: &Problem,
+        st: &State,
+        loads: &[PointLoad],
+        tangent: bool,
+    ) -> Result<(), StaticsError> {
+        let n = p.layout.n();
+        let l = p.length;
+        let Workspace {
+            r,
+            phi,
+            row_scale,
+            unit_reaction,
+            a,
+            element_scale,
+            load_scale,
+            scale,
+        } = self;
+        r.iter_mut().for_each(|v| *v = 0.0);
+        if tangent {
+            a.as_mut().fill(0.0);
+        }
+        let mut elem = 0.0f64;
+        fn add(
+            w: &Wrench,
+            lam: f64,
+            r: &mut [f64],
+            a: &mut Mat<f64>,
+            tangent: bool,
+            scale: &[f64],
+        ) {
+            w.each_force(|i, v| r[i] += lam * v * scale[i]);
+            if tangent {
+                // Column by column: one bounds check per column of a block
+                // (the products in the order of the entry-wise sum before).
+                w.each_tangent(|ro, co, blk| {
+                    for b in 0..3 {
+                        let sj = scale[co + b];
+                        let col = &mut a.col_as_slice_mut(co + b)[ro..ro + 3];
+                        let rows = blk.column(b);
+                        for (x, (v, si)) in col.iter_mut().zip(rows.iter().zip(&scale[ro..ro + 3]))
+                        {
+                            *x += lam * v * si * sj;
+                        }
+                    }
+                });
+            }
+        }
+        for_each_element(&p.model, &p.layout, st, |_, w| {
+            elem = elem.max(w.g.norm() + w.m.norm() / l);
+            add(w, 1.0, r, a, tangent, scale);
+        })?;
+        *element_scale = elem;
+        *load_scale = 0.0;
+        for ld in loads {
+            if let Some(w) = point_load(&p.model, &p.layout, st, ld) {
+                *load_scale = load_scale.max(w.g.norm() + w.m.norm() / l);
+                add(&w, 1.0, r, a, tangent, scale);
+            }
+        }
+        // A joint's equations are consecutive and share its marker frames.
+        let mut frames: Option<(JointId, MarkerKin, MarkerKin)> = None;
+        for (idx, &e) in p.kept.iter().enumerate() {
+            let lam = st.lambda.get(idx).copied().unwrap_or(0.0);
+            let eq = &p.equations[e];
+            let (mi, mj) = match frames {
+                Some((j, mi, mj)) if j == eq.joint => (mi, mj),
+                _ => {
+                    let (mi, mj) = joint_markers(&p.model, &p.layout, st, eq.joint);
+                    frames = Some((eq.joint, mi, mj));
+                    (mi, mj)
+                }
+            };
+            let (v, w) = evaluate_at(&mi, &mj, eq.primitive);
+            // The gradient row with rotation columns times the length, as in
+            // `redundancy::scaled_jacobian` (at most 12 entries).
+            let mut grad = [(0usize, 0.0f64); 12];
+            let mut len = 0;
+            w.each_force(|i, g| {
+                grad[len] = (i, g * scale[i]);
+                len += 1;
+            });
+            let norm = grad[..len].iter().map(|(_, g)| g * g).sum::<f64>().sqrt();
+            let s = if norm > 0.0 {
+                norm
+            } else if is_length(eq.primitive) {
+                1.0
+            } else {
+                1.0 / l
+            };
+            row_scale[idx] = s;
+            phi[idx] = v / s;
+            unit_reaction[idx] = (w.g, w.m);
+            if tangent {
+                for &(i, g) in &grad[..len] {
+                    a[(n + idx, i)] += g / s;
+                    a[(i, n + idx)] += g / s;
+                }
+            }
+            add(&w, lam, r, a, tangent, scale);
+        }
+        Ok(())
+    }
+
+    /// Applies the homotopy of a sub-step to the residual.
+    pub(crate) fn release(&mut self, h: &Homotopy) {
+        if h.remaining > 0.0 && h.r0.len() == self.r.len() && h.phi0.len() == self.phi.len() {
+            for (v, v0) in self.r.iter_mut().zip(&h.r0) {
+                *v -= v0 * h.remaining;
+            }
+            for (v, v0) in self.phi.iter_mut().zip(&h.phi0) {
+                *v -= v0 * h.remaining;
+            }
+        }
+    }
+
+    /// The force scale convergence is judged against: the largest force in
+    /// the balance at the state evaluated (element forces and applied loads,
+    /// at least 1 N). Not the scale of the start: a previous case's huge load
+    /// (or its element forces) must not make the next case's residual look
+    /// negligible, so a stale pose is never accepted as converged.
+    pub fn force_scale(&self) -> f64 {
+        let f = self.element_scale.max(self.load_scale);
+        // `max` drops a NaN: an undefined force makes the scale infinite.
+        if f.is_nan() {
+            f64::INFINITY
+        } else {
+            f.max(1.0)
+        }
+    }
+
+    /// Scaled residual norms: force (of [`Workspace::force_scale`]) and
+    /// constraint (of the length). A residual or scale that is not finite
+    /// (a force overflowing) is an infinite error, never a converged one.
+    pub fn errors(&self, p: &Problem) -> (f64, f64) {
+        let force = self.force_scale();
+        let (r, phi) = (amax(&self.r), amax(&self.phi));
+        if !force.is_finite() || !r.is_finite() || !phi.is_finite() {
+            return (f64::INFINITY, f64::INFINITY);
+        }
+        (r / force, phi / p.length)
+    }
+
+    pub(crate) fn merit(&self, p: &Problem, force: f64) -> f64 {
+        let sq = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>();
+        sq(&self.r) / (force * force) + sq(&self.phi) / (p.length * p.length)
+    }
+
+    /// The Newton matrix as a nalgebra matrix (for the SVD of error paths).
+    pub fn matrix(&self) -> DMatrix<f64> {
+        let nn = self.a.nrows();
+        DMatrix::from_fn(nn, nn, |i, j| self.a[(i, j)])
+    }
+}
+
+/// The largest magnitude, infinite when an entry is NaN (which `f64::max`
+/// would silently drop).
+fn amax(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| {
+        if x.is_nan() {
+            f64::INFINITY
+        } else {
+            m.max(x.abs())
+        }
+    })
+}
+
+pub(crate) fn assemble(
+    p: &Problem,
+    st: &State,
+    loads: &[PointLoad],
+) -> Result<System, StaticsError> {
+    let mut ws = Workspace::new(p);
+    ws.eval(p, st, loads, true)?;
+    let (n, m) = (p.layout.n(), p.kept.len());
+    Ok(System {
+        r: DVector::from_column_slice(&ws.r),
+        k: DMatrix::from_fn(n, n, |i, j| ws.a[(i, j)]),
+        jac: DMatrix::from_fn(m, n, |i, j| ws.a[(n + i, j)]),
+        phi: DVector::from_column_slice(&ws.phi),
+    })
+}
+
+/// Scaled residual norms: force (of `force`) and constraint (of the length).
+pub(crate) fn errors(p: &Problem, sys: &System, force: f64) -> (f64, f64) {
+    (
+        sys.r.amax() / force,
+        if sys.phi.is_empty() {
+            0.0
+        } else {
+            sys.phi.amax() / p.length
+        },
+    )
+}
