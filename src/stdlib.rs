@@ -11,6 +11,10 @@ pub const MODULES: &[(&str, &str)] = &[
         "mcpherson_corner",
         include_str!("../stdlib/mcpherson_corner.axle"),
     ),
+    (
+        "anti_roll_bar",
+        include_str!("../stdlib/anti_roll_bar.axle"),
+    ),
 ];
 
 pub fn module(name: &str) -> Option<&'static str> {

@@ -387,7 +387,8 @@ impl Checker {
     ) -> Option<LoadSet> {
         let mut channels = Vec::new();
         let mut constants = Vec::new();
-        let mut swept: Option<(usize, Vec<f64>, f64, Span)> = None;
+        // Each swept line: its channel index, waypoints, step and span.
+        let mut swept: Vec<(usize, Vec<f64>, f64, Span)> = Vec::new();
         let mut ok = true;
         for (n, line) in lines.iter().enumerate() {
             if let Some(prev) = lines[..n]
@@ -438,23 +439,8 @@ impl Checker {
                         ok = false;
                         continue;
                     }
-                    if let Some((_, _, _, first)) = &swept {
-                        self.problems.push(
-                            Diagnostic::error(
-                                "E0505",
-                                format!("sweep `{name}` sweeps two channels"),
-                            )
-                            .primary(line.span, "a second swept channel")
-                            .secondary(*first, "the swept channel")
-                            .hint(
-                                "a sweep moves one channel; write a load table for combined paths",
-                            ),
-                        );
-                        ok = false;
-                        continue;
-                    }
                     channels.push(ch);
-                    swept = Some((channels.len() - 1, pts, s.value, line.span));
+                    swept.push((channels.len() - 1, pts, s.value, line.span));
                 }
                 (Some(_), _) => {
                     self.problems.push(
@@ -477,16 +463,83 @@ impl Checker {
         if !ok {
             return None;
         }
-        let Some((idx, waypoints, step, span)) = swept else {
+        if swept.is_empty() {
             self.problems.push(
                 Diagnostic::error("E0508", format!("sweep `{name}` sweeps no channel"))
                     .primary(name_span, "nothing varies")
                     .hint("add a line such as `fz 1000 N -> 8000 N by 250 N`"),
             );
             return None;
-        };
+        }
+        let mut paths = Vec::with_capacity(swept.len());
+        for (idx, waypoints, step, span) in &swept {
+            let dim = Self::component_dim(channels[*idx].component);
+            paths.push(self.sweep_values(waypoints, *step, *span, dim)?);
+        }
+        // Several swept channels move together, step for step (both wheels of
+        // an axle in parallel travel): every one must give as many cases.
+        // (Every line gave one channel, in order: a channel index is its line's.)
+        let (first, count) = (&swept[0], paths[0].len());
+        for ((idx, _, _, span), path) in swept.iter().zip(&paths).skip(1) {
+            if path.len() != count {
+                self.problems.push(
+                    Diagnostic::error(
+                        "E0505",
+                        format!("the swept channels of sweep `{name}` do not move in lockstep"),
+                    )
+                    .primary(*span, format!("{} cases", path.len()))
+                    .secondary(first.3, format!("{count} cases"))
+                    .note(format!(
+                        "swept channels move together, one step each per case; `{}` and `{}` must give as many cases",
+                        lines[first.0].channel.text(),
+                        lines[*idx].channel.text()
+                    ))
+                    .hint("choose steps that divide each channel's travel into the same number of steps, or write a load table"),
+                );
+                return None;
+            }
+        }
+        let cases = (0..count)
+            .map(|k| {
+                let mut vals = vec![0.0; channels.len()];
+                for (c, x) in &constants {
+                    vals[*c] = *x;
+                }
+                for ((idx, ..), path) in swept.iter().zip(&paths) {
+                    vals[*idx] = path[k];
+                }
+                LoadCase {
+                    name: format!("{name}_{:03}", k + 1),
+                    values: vals,
+                }
+            })
+            .collect();
+        Some(LoadSet {
+            name: name.to_string(),
+            channels,
+            cases,
+            form: LoadForm::Sweep {
+                swept: swept
+                    .into_iter()
+                    .map(|(channel, waypoints, step, _)| SweptChannel {
+                        channel,
+                        waypoints,
+                        step,
+                    })
+                    .collect(),
+            },
+        })
+    }
+
+    /// The values of one swept channel: from waypoint to waypoint by `step`.
+    fn sweep_values(
+        &mut self,
+        waypoints: &[f64],
+        step: f64,
+        span: Span,
+        dim: Dim,
+    ) -> Option<Vec<f64>> {
         let mut values = vec![waypoints[0]];
-        let dim = Self::component_dim(channels[idx].component);
         for w in waypoints.windows(2) {
             let n = ((w[1] - w[0]).abs() / step).round();
             // Judged in floating point, before any count is converted or
@@ -519,31 +572,7 @@ impl Checker {
                 values.push(w[0] + dir * step * k as f64);
             }
         }
-        let cases = values
-            .iter()
-            .enumerate()
-            .map(|(k, v)| {
-                let mut vals = vec![0.0; channels.len()];
-                for (c, x) in &constants {
-                    vals[*c] = *x;
-                }
-                vals[idx] = *v;
-                LoadCase {
-                    name: format!("{name}_{:03}", k + 1),
-                    values: vals,
-                }
-            })
-            .collect();
-        Some(LoadSet {
-            name: name.to_string(),
-            channels,
-            cases,
-            form: LoadForm::Sweep {
-                swept: idx,
-                waypoints,
-                step,
-            },
-        })
+        Some(values)
     }
 }
 

@@ -3,7 +3,7 @@
 use super::input::{emit, load_model, pick_set_reported};
 use super::{Exit, OutFormat};
 use crate::diagnostic::Diagnostic;
-use crate::kc::{KcRow, kc_rows};
+use crate::kc::{KcRow, axle_metrics, kc_rows};
 use crate::model::{Component, LoadForm, LoadSet, LoadSetId, Model};
 use crate::output::plot::{Sweep, svg};
 use crate::output::warning;
@@ -34,7 +34,10 @@ fn sweep_kind(set: &LoadSet) -> Sweep {
         }
     }
     let comp = match &set.form {
-        LoadForm::Sweep { swept, .. } => set.channels.get(*swept).map(|c| c.component),
+        LoadForm::Sweep { swept } => swept
+            .first()
+            .and_then(|s| set.channels.get(s.channel))
+            .map(|c| c.component),
         LoadForm::Table => (0..set.channels.len())
             .map(|i| {
                 let (lo, hi) = set
@@ -134,6 +137,7 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
     loaded.report(&warning::of_path(model, &names, eqs));
     let states: Vec<_> = eqs.iter().map(|e| &e.state).collect();
     let rows: Vec<KcRow> = kc_rows(model, set, &states);
+    let axles = axle_metrics(model, set, &states);
     let comp = eqs
         .first()
         .map_or_else(Vec::new, |e| compliances(&problem, model, e));
@@ -158,15 +162,24 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
         OutFormat::Table => {
             let head = format!("model {}, K&C along {}: {steps}\n", model.name, ls.name);
             format!(
-                "{head}{}{}{}",
+                "{head}{}{}{}{}",
                 kc_table::table(&rows),
                 failed.map_or(String::new(), |f| f.line()),
-                compliance_table(&comp)
+                compliance_table(&comp),
+                kc_table::axle_table(&axles)
             )
         }
         OutFormat::Json => {
             let iterations: Vec<usize> = eqs.iter().map(|e| e.iterations).collect();
-            solve_json::kc(&model.name, &ls.name, &rows, &comp, &iterations, failed)
+            solve_json::kc(
+                &model.name,
+                &ls.name,
+                &rows,
+                &comp,
+                &axles,
+                &iterations,
+                failed,
+            )
         }
     };
     match emit(args.output.as_deref(), &text) {

@@ -435,17 +435,14 @@ fn load_set(o: &mut String, m: &Model, set: &LoadSet) {
                 let _ = writeln!(o, "{}", line.trim_end());
             }
         }
-        LoadForm::Sweep {
-            swept,
-            waypoints,
-            step,
-        } => {
+        LoadForm::Sweep { swept } => {
             let _ = writeln!(o, "loads {} sweep {{", set.name);
             for (k, ch) in set.channels.iter().enumerate() {
                 let d = dim(ch);
                 let u = d.boundary_unit();
-                if k == *swept {
-                    let pts: Vec<String> = waypoints
+                if let Some(sw) = swept.iter().find(|s| s.channel == k) {
+                    let pts: Vec<String> = sw
+                        .waypoints
                         .iter()
                         .map(|w| format!("{} {u}", number(to_boundary(*w, d))))
                         .collect();
@@ -454,7 +451,7 @@ fn load_set(o: &mut String, m: &Model, set: &LoadSet) {
                         "    {} {} by {} {u}",
                         channel_name(m, ch),
                         pts.join(" -> "),
-                        number(to_boundary(*step, d))
+                        number(to_boundary(sw.step, d))
                     );
                 } else {
                     let v = set.cases.first().map_or(0.0, |c| c.values[k]);

@@ -78,26 +78,58 @@ impl Deck {
     }
 }
 
-/// An axle identifier from an ADAMS name: the last `.` segment, other characters as `_`.
+/// An axle identifier from an ADAMS name: its `.` segments (names of
+/// instances, `front_left.upright`, come back qualified), each with other
+/// characters as `_`; an Adams/View full name's leading `.MODEL` is dropped
+/// (`.model_1.PART_2` is `PART_2`).
 pub(crate) fn ident(view: Option<&str>, fallback: String) -> String {
-    let raw = view.and_then(|v| v.rsplit('.').next()).unwrap_or("").trim();
-    let mut s: String = raw
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '_' {
-                c
+    let raw = view.unwrap_or("").trim();
+    let raw = match raw.strip_prefix('.') {
+        Some(rest) => rest.split_once('.').map_or("", |(_, r)| r),
+        None => raw,
+    };
+    let segments: Vec<String> = raw
+        .split('.')
+        .map(|seg| {
+            let s: String = seg
+                .trim()
+                .chars()
+                .map(|c| {
+                    if c.is_ascii_alphanumeric() || c == '_' {
+                        c
+                    } else {
+                        '_'
+                    }
+                })
+                .collect();
+            if s.starts_with(|c: char| c.is_ascii_digit()) {
+                format!("_{s}")
             } else {
-                '_'
+                s
             }
         })
+        .filter(|s| !s.is_empty())
         .collect();
-    if s.is_empty() {
-        s = fallback;
-    }
+    let s = if segments.is_empty() {
+        fallback
+    } else {
+        segments.join(".")
+    };
     if !s.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_') {
-        s = format!("_{s}");
+        return format!("_{s}");
     }
     s
+}
+
+/// A marker's name from its qualified ADAMS name: without its part's name
+/// (`front_left.upright.WC` on `front_left.upright` is `WC`), else the last
+/// segment.
+fn marker_ident(view: Option<&str>, part: &str, fallback: String) -> String {
+    let full = ident(view, fallback);
+    match full.strip_prefix(part).and_then(|r| r.strip_prefix('.')) {
+        Some(rest) if !rest.is_empty() => rest.to_string(),
+        _ => full.rsplit('.').next().unwrap_or(&full).to_string(),
+    }
 }
 
 fn unique(name: String, taken: &[String], id: Option<u32>) -> String {
@@ -391,7 +423,11 @@ fn markers(d: &mut Deck, stmts: Vec<&Statement>) {
         } else {
             orientation
         };
-        let name = ident(s.view_name.as_deref(), format!("m{id}"));
+        let name = marker_ident(
+            s.view_name.as_deref(),
+            &d.model.part(pid).name,
+            format!("m{id}"),
+        );
         let aux = floating || name.starts_with("axle_");
         let model = (!aux).then(|| {
             let taken: Vec<String> = d
@@ -487,11 +523,11 @@ fn wheel(d: &mut Deck, s: &Statement) -> bool {
     let Some(v) = s.view_name.as_deref() else {
         return false;
     };
-    let parts: Vec<&str> = v.split('.').collect();
-    let ["wheel", name, what] = parts.as_slice() else {
+    // `wheel.NAME.what`, NAME itself qualified for a wheel of an instance.
+    let Some((name, what)) = v.strip_prefix("wheel.").and_then(|r| r.rsplit_once('.')) else {
         return false;
     };
-    if *what == "angles" {
+    if what == "angles" {
         return true;
     }
     let Some(m) = s
@@ -515,10 +551,34 @@ fn wheel(d: &mut Deck, s: &Statement) -> bool {
             d.model.wheels.len() - 1
         }
     };
-    match *what {
+    match what {
         "centre" => d.model.wheels[k].centre = m,
         "contact" => d.model.wheels[k].contact = m,
         _ => return false,
     }
     true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{ident, marker_ident};
+
+    #[test]
+    fn qualified_names_come_back_whole_and_view_paths_lose_their_model() {
+        assert_eq!(
+            ident(Some("front_left.upright"), "p".into()),
+            "front_left.upright"
+        );
+        assert_eq!(ident(Some(".model_1.PART_2"), "p".into()), "PART_2");
+        assert_eq!(ident(Some("arm"), "p".into()), "arm");
+        assert_eq!(ident(Some("2nd arm.b-1"), "p".into()), "_2nd_arm.b_1");
+        assert_eq!(ident(None, "part_3".into()), "part_3");
+        assert_eq!(ident(Some("."), "part_3".into()), "part_3");
+        // A marker drops its part's name, qualified or not, else keeps its last segment.
+        let m = |v: &str, part: &str| marker_ident(Some(v), part, "m1".into());
+        assert_eq!(m("front_left.upright.WC", "front_left.upright"), "WC");
+        assert_eq!(m("chassis.front_left.B", "chassis"), "front_left.B");
+        assert_eq!(m(".model_1.PART_2.MARKER_5", "PART_2"), "MARKER_5");
+        assert_eq!(m("other.B", "arm"), "B");
+    }
 }

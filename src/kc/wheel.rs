@@ -36,6 +36,11 @@ fn centre_axis_contact(model: &Model, state: &State, w: &Wheel) -> (Vec3, Vec3, 
     (centre, spin, xk + rk * k.origin())
 }
 
+/// The wheel's contact marker's origin at `state`, mm, global.
+pub fn contact_point(model: &Model, state: &State, w: &Wheel) -> Vec3 {
+    centre_axis_contact(model, state, w).2
+}
+
 /// The wheel's quantities at `state`, travel and half-track change against design.
 pub fn wheel_quantities(model: &Model, state: &State, w: &Wheel) -> WheelQuantities {
     let (c, s, cp) = centre_axis_contact(model, state, w);

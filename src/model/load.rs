@@ -68,12 +68,21 @@ pub struct LoadCase {
 #[derive(Debug, Clone, PartialEq)]
 pub enum LoadForm {
     Table,
-    /// A sweep: constant channels plus one channel through waypoints by a step.
+    /// A sweep: constant channels plus one or more channels, each through
+    /// its waypoints by its step, all moving in lockstep (the same number of
+    /// cases); the first swept channel is the one plots are drawn against.
     Sweep {
-        swept: usize,
-        waypoints: Vec<f64>,
-        step: f64,
+        swept: Vec<SweptChannel>,
     },
+}
+
+/// One swept channel of a sweep: its index in the set's channels, its
+/// waypoints and step (internal units).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SweptChannel {
+    pub channel: usize,
+    pub waypoints: Vec<f64>,
+    pub step: f64,
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -3,8 +3,8 @@
 //! change), as a terminal table, and as JSON.
 
 use super::columns::{Cell, Col, col, render};
-use super::number::{csv as num, round_json};
-use crate::kc::KcRow;
+use super::number::{csv as num, fixed, round_json};
+use crate::kc::{AxleMetrics, KcRow, Motion};
 use serde_json::{Value, json};
 
 /// The header of the K&C CSV.
@@ -126,4 +126,79 @@ pub fn json_rows(rows: &[KcRow]) -> Value {
     );
     round_json(&mut v);
     v
+}
+
+const PARALLEL_COLS: [Col; 4] = [
+    col("wheel", "", 0),
+    col("bump steer", "deg/mm", 5),
+    col("bump camber", "deg/mm", 5),
+    col("wheel rate", "N/mm", 2),
+];
+
+const OPPOSED_COLS: [Col; 3] = [
+    col("wheel", "", 0),
+    col("roll steer", "deg/deg", 4),
+    col("roll camber", "deg/deg", 4),
+];
+
+/// The axle metrics (`docs/kc.md`): one block per wheel pair.
+pub fn axle_table(axles: &[AxleMetrics]) -> String {
+    let mut out = String::new();
+    for a in axles {
+        let [l, r] = &a.wheels;
+        let what = match a.motion {
+            Motion::Parallel => "parallel travel",
+            Motion::Opposed => "opposed travel (roll)",
+        };
+        out += &format!(
+            "\naxle {} / {}: {what}, slopes at step {} ({})\n",
+            l.wheel, r.wheel, a.step, a.loadcase
+        );
+        match a.motion {
+            Motion::Parallel => {
+                out += &match a.roll_centre {
+                    Some([y, z]) => format!(
+                        "  roll centre (kinematic): height {} mm, y {} mm\n",
+                        fixed(z, 1, 0),
+                        fixed(y, 1, 0)
+                    ),
+                    None => {
+                        "  roll centre (kinematic): at infinity (the contact paths are parallel)\n"
+                            .into()
+                    }
+                };
+                let rows: Vec<Vec<Cell>> = a
+                    .wheels
+                    .iter()
+                    .map(|w| {
+                        vec![
+                            Cell::Text(w.wheel.clone()),
+                            Cell::Num(w.toe),
+                            Cell::Num(w.camber),
+                            Cell::Num(w.rate.unwrap_or(f64::NAN)),
+                        ]
+                    })
+                    .collect();
+                out += &render(&PARALLEL_COLS, &rows, "  ");
+            }
+            Motion::Opposed => {
+                if let Some(k) = a.roll_stiffness {
+                    out += &format!("  roll stiffness: {} N*m/deg\n", fixed(k, 1, 0));
+                }
+                let rows: Vec<Vec<Cell>> = a
+                    .wheels
+                    .iter()
+                    .map(|w| {
+                        vec![
+                            Cell::Text(w.wheel.clone()),
+                            Cell::Num(w.toe),
+                            Cell::Num(w.camber),
+                        ]
+                    })
+                    .collect();
+                out += &render(&OPPOSED_COLS, &rows, "  ");
+            }
+        }
+    }
+    out
 }

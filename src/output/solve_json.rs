@@ -6,7 +6,8 @@
 
 use super::json::Json;
 use super::report::{CaseReport, FailedCase};
-use crate::kc::{KcRow, WheelQuantities};
+use crate::kc::axle::WheelSlopes;
+use crate::kc::{AxleMetrics, KcRow, Motion, WheelQuantities};
 use serde_json::Value;
 
 fn wheel(w: &mut Json, q: &WheelQuantities) {
@@ -173,18 +174,72 @@ fn kc_row(w: &mut Json, r: &KcRow) {
     w.end_object();
 }
 
-/// `kc --format json`: rows, the wheel-centre compliances (mm/kN, sorted by
+/// One axle's metrics (keys sorted; `docs/kc.md`).
+fn axle(w: &mut Json, a: &AxleMetrics) {
+    w.begin_object();
+    w.key("left").str(&a.wheels[0].wheel);
+    w.key("loadcase").str(&a.loadcase);
+    w.key("motion").str(a.motion.name());
+    w.key("right").str(&a.wheels[1].wheel);
+    match a.motion {
+        Motion::Parallel => {
+            w.key("roll_centre_mm");
+            match a.roll_centre {
+                Some(rc) => w.nums(&rc),
+                None => w.value(&Value::Null),
+            }
+        }
+        Motion::Opposed => {
+            if let Some(k) = a.roll_stiffness {
+                w.key("roll_stiffness_nm_per_deg").num(k);
+            }
+        }
+    }
+    w.key("step").int(a.step as u64);
+    w.key("wheels").begin_object();
+    let mut sorted: Vec<&WheelSlopes> = a.wheels.iter().collect();
+    sorted.sort_by(|x, y| x.wheel.cmp(&y.wheel));
+    for s in sorted {
+        w.key(&s.wheel).begin_object();
+        match a.motion {
+            Motion::Parallel => {
+                w.key("bump_camber_deg_per_mm").num(s.camber);
+                w.key("bump_steer_deg_per_mm").num(s.toe);
+                if let Some(k) = s.rate {
+                    w.key("wheel_rate_n_per_mm").num(k);
+                }
+            }
+            Motion::Opposed => {
+                w.key("roll_camber_deg_per_deg").num(s.camber);
+                w.key("roll_steer_deg_per_deg").num(s.toe);
+            }
+        }
+        w.end_object();
+    }
+    w.end_object();
+    w.end_object();
+}
+
+/// `kc --format json`: the axle metrics (when the path moves a wheel pair), rows, the wheel-centre compliances (mm/kN, sorted by
 /// wheel, whose names are unique), the iterations per step, the failing step.
 pub fn kc(
     model: &str,
     sweep: &str,
     rows: &[KcRow],
     compliance: &[(String, [[f64; 3]; 3])],
+    axles: &[AxleMetrics],
     iterations: &[usize],
     failed: Option<&FailedCase>,
 ) -> String {
     let mut w = Json::new();
     w.begin_object();
+    if !axles.is_empty() {
+        w.key("axles").begin_array();
+        for a in axles {
+            axle(&mut w, a);
+        }
+        w.end_array();
+    }
     w.key("compliance_mm_per_kn").begin_object();
     let mut sorted: Vec<&(String, [[f64; 3]; 3])> = compliance.iter().collect();
     sorted.sort_by(|a, b| a.0.cmp(&b.0));
@@ -404,7 +459,7 @@ mod tests {
                 v["failed"] = json!(f);
             }
             round_tree(&mut v);
-            let direct = kc(&m.name, &ls.name, &rows, &comp, &iterations, f);
+            let direct = kc(&m.name, &ls.name, &rows, &comp, &[], &iterations, f);
             assert_eq!(direct, format!("{v:#}\n"));
         }
     }

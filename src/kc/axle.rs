@@ -1,0 +1,303 @@
+//! Axle K&C metrics of a load path on a pair of wheels (`docs/kc.md`): for
+//! parallel travel (both wheels' vertical loads moving together) the bump
+//! steer, bump camber and wheel rate of each wheel and the kinematic roll
+//! centre; for opposed travel (roll) the roll stiffness and each wheel's
+//! roll steer and roll camber. Every metric is a slope at the step nearest
+//! the design position, by a difference of its neighbours on the path.
+//!
+//! Signs follow ISO 8855 and `conventions.md`: x forward, y left, z up; toe-in
+//! and camber top-out positive (per wheel); the body's roll angle φ is
+//! right-handed about x, positive when the body's left side rises relative
+//! to the wheels (the left wheel drops, the right one rises).
+
+use super::wheel::{contact_point, wheel_quantities};
+use crate::geom::Vec3;
+use crate::model::{Component, LoadSetId, LoadTarget, Model, WheelId};
+use crate::statics::State;
+
+/// How the two wheels of an axle move along a load path.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Motion {
+    /// Both vertical loads rise and fall together (parallel wheel travel).
+    Parallel,
+    /// One vertical load rises as the other falls (opposed travel, roll).
+    Opposed,
+}
+
+impl Motion {
+    pub fn name(self) -> &'static str {
+        match self {
+            Motion::Parallel => "parallel",
+            Motion::Opposed => "opposed",
+        }
+    }
+}
+
+/// One wheel's slopes at the reference step. Parallel travel: per mm of the
+/// wheel's own travel (and N/mm of its vertical load); opposed travel: per
+/// degree of body roll.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WheelSlopes {
+    pub wheel: String,
+    /// d toe / d travel (deg/mm) or d toe / d φ (deg/deg).
+    pub toe: f64,
+    /// d camber / d travel (deg/mm) or d camber / d φ (deg/deg).
+    pub camber: f64,
+    /// d fz / d travel (N/mm), parallel travel only.
+    pub rate: Option<f64>,
+}
+
+/// The metrics of one axle (a left and a right wheel) along one load path.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxleMetrics {
+    pub motion: Motion,
+    /// 1-based step of the path the slopes are taken at, and its case.
+    pub step: usize,
+    pub loadcase: String,
+    /// Left wheel, then right.
+    pub wheels: [WheelSlopes; 2],
+    /// Kinematic roll centre `(y, z)`, mm (parallel travel; `None` when the
+    /// two contact paths are parallel: the roll centre is at infinity).
+    pub roll_centre: Option<[f64; 2]>,
+    /// Roll stiffness `-dMx/dφ`, N·m/deg (opposed travel).
+    pub roll_stiffness: Option<f64>,
+}
+
+/// The wheel pairs of a model: each wheel left of the plane of symmetry
+/// (design centre y > 0) with the right wheel nearest its mirror image,
+/// in declaration order of the left wheels.
+pub fn wheel_pairs(model: &Model) -> Vec<(WheelId, WheelId)> {
+    let design = State::design(model);
+    let centre = |w: usize| -> Vec3 {
+        wheel_quantities(model, &design, &model.wheels[w])
+            .center
+            .into()
+    };
+    let n = model.wheels.len();
+    let mut used = vec![false; n];
+    let mut pairs = Vec::new();
+    for l in 0..n {
+        let cl = centre(l);
+        if cl.y <= 0.0 {
+            continue;
+        }
+        let mirror = Vec3::new(cl.x, -cl.y, cl.z);
+        let best = (0..n)
+            .filter(|&r| !used[r] && centre(r).y < 0.0)
+            .min_by(|&a, &b| {
+                (centre(a) - mirror)
+                    .norm()
+                    .total_cmp(&(centre(b) - mirror).norm())
+            });
+        if let Some(r) = best {
+            used[r] = true;
+            pairs.push((WheelId(l as u32), WheelId(r as u32)));
+        }
+    }
+    pairs
+}
+
+/// The vertical load on a wheel in every case of a set (N).
+fn wheel_fz(model: &Model, set: LoadSetId, wheel: WheelId) -> Vec<f64> {
+    let ls = &model.load_sets[set.index()];
+    ls.cases
+        .iter()
+        .map(|c| {
+            ls.channels
+                .iter()
+                .zip(&c.values)
+                .filter(|(ch, _)| {
+                    ch.component == Component::Fz && target_is(model, ch.target, wheel)
+                })
+                .map(|(_, v)| *v)
+                .sum()
+        })
+        .collect()
+}
+
+fn target_is(model: &Model, t: LoadTarget, wheel: WheelId) -> bool {
+    match t {
+        LoadTarget::Wheel(w) => w == wheel,
+        LoadTarget::DefaultWheel => model.wheels.len() == 1 && wheel.index() == 0,
+        _ => false,
+    }
+}
+
+/// Whether the two wheels' vertical loads move together or against each other
+/// along the set; `None` when one of them does not move.
+fn motion(fl: &[f64], fr: &[f64]) -> Option<Motion> {
+    let (l0, r0) = (*fl.first()?, *fr.first()?);
+    let varies = |f: &[f64], f0: f64| f.iter().any(|v| (v - f0).abs() > 1e-9);
+    if !varies(fl, l0) || !varies(fr, r0) {
+        return None;
+    }
+    let s: f64 = fl.iter().zip(fr).map(|(l, r)| (l - l0) * (r - r0)).sum();
+    match s {
+        s if s > 0.0 => Some(Motion::Parallel),
+        s if s < 0.0 => Some(Motion::Opposed),
+        _ => None,
+    }
+}
+
+/// The reference step and the two steps whose difference gives a slope
+/// there. The reference is nearest x = 0 (a path may pass there several
+/// times, up and back: the first passage with a neighbour on each side that
+/// x runs through monotonically, else the first passage); the slope is from
+/// those neighbours, or from the step and its one neighbour.
+fn reference(x: &[f64]) -> Option<(usize, usize, usize)> {
+    let n = x.len();
+    let min = x.iter().fold(f64::INFINITY, |m, v| m.min(v.abs()));
+    let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let near = |k: &usize| x[*k].abs() <= min + 1e-9 * scale;
+    let central = |k: &usize| *k > 0 && k + 1 < n && (x[k + 1] - x[*k]) * (x[*k] - x[k - 1]) > 0.0;
+    let k = (0..n)
+        .filter(near)
+        .find(central)
+        .or_else(|| (0..n).find(near))?;
+    let (a, b) = if central(&k) {
+        (k - 1, k + 1)
+    } else if k + 1 < n {
+        (k, k + 1)
+    } else if k > 0 {
+        (k - 1, k)
+    } else {
+        return None;
+    };
+    (x[b] != x[a]).then_some((k, a, b))
+}
+
+/// The axle metrics of the solved cases of `set` (`states[k]` the equilibrium
+/// of case k; a path cut short gives the metrics of its solved part), one per
+/// wheel pair whose loads move in parallel or opposed.
+pub fn axle_metrics(model: &Model, set: LoadSetId, states: &[&State]) -> Vec<AxleMetrics> {
+    let Some(ls) = model.load_sets.get(set.index()) else {
+        return Vec::new();
+    };
+    let n = states.len().min(ls.cases.len());
+    let mut out = Vec::new();
+    for (l, r) in wheel_pairs(model) {
+        let (fl, fr) = (wheel_fz(model, set, l), wheel_fz(model, set, r));
+        let Some(mo) = motion(&fl[..n], &fr[..n]) else {
+            continue;
+        };
+        let (wl, wr) = (&model.wheels[l.index()], &model.wheels[r.index()]);
+        let ql: Vec<_> = states[..n]
+            .iter()
+            .map(|s| wheel_quantities(model, s, wl))
+            .collect();
+        let qr: Vec<_> = states[..n]
+            .iter()
+            .map(|s| wheel_quantities(model, s, wr))
+            .collect();
+        let (cl, cr): (Vec<Vec3>, Vec<Vec3>) = states[..n]
+            .iter()
+            .map(|s| (contact_point(model, s, wl), contact_point(model, s, wr)))
+            .unzip();
+        // Body roll relative to the wheels, from the wheel centres' travel.
+        let roll: Vec<f64> = (0..n)
+            .map(|k| {
+                let (a, b) = (ql[k].center, qr[k].center);
+                (qr[k].travel_mm - ql[k].travel_mm)
+                    .atan2(a[1] - b[1])
+                    .to_degrees()
+            })
+            .collect();
+        let driver: Vec<f64> = match mo {
+            Motion::Parallel => (0..n)
+                .map(|k| 0.5 * (ql[k].travel_mm + qr[k].travel_mm))
+                .collect(),
+            Motion::Opposed => roll.clone(),
+        };
+        let Some((k, a, b)) = reference(&driver) else {
+            continue;
+        };
+        let slopes = |q: &[super::WheelQuantities], f: &[f64], name: &str| {
+            let dx = match mo {
+                Motion::Parallel => q[b].travel_mm - q[a].travel_mm,
+                Motion::Opposed => roll[b] - roll[a],
+            };
+            WheelSlopes {
+                wheel: name.to_string(),
+                toe: (q[b].toe_deg - q[a].toe_deg) / dx,
+                camber: (q[b].camber_deg - q[a].camber_deg) / dx,
+                rate: (mo == Motion::Parallel).then(|| (f[b] - f[a]) / dx),
+            }
+        };
+        let roll_centre = match mo {
+            Motion::Parallel => roll_centre(cl[k], cl[b] - cl[a], cr[k], cr[b] - cr[a]),
+            Motion::Opposed => None,
+        };
+        // Mx of the vertical wheel loads about the x axis (contact points), N·mm.
+        let mx = |j: usize| cl[j].y * fl[j] + cr[j].y * fr[j];
+        let roll_stiffness = match mo {
+            Motion::Opposed => Some(-(mx(b) - mx(a)) / (roll[b] - roll[a]) / 1000.0),
+            Motion::Parallel => None,
+        };
+        out.push(AxleMetrics {
+            motion: mo,
+            step: k + 1,
+            loadcase: ls.cases[k].name.clone(),
+            wheels: [slopes(&ql, &fl, &wl.name), slopes(&qr, &fr, &wr.name)],
+            roll_centre,
+            roll_stiffness,
+        });
+    }
+    out
+}
+
+/// Where the lines through each contact point normal to its path (in the yz
+/// plane) meet: each passes through its wheel's instant centre, so they meet
+/// at the kinematic roll centre. `(y, z)`, mm; `None` for parallel lines.
+fn roll_centre(pl: Vec3, vl: Vec3, pr: Vec3, vr: Vec3) -> Option<[f64; 2]> {
+    // Normals (dz, -dy); solve pl + s nl = pr + u nr.
+    let (nl, nr) = ([vl.z, -vl.y], [vr.z, -vr.y]);
+    let det = nl[0] * (-nr[1]) - (-nr[0]) * nl[1];
+    let scale = (nl[0].hypot(nl[1])) * (nr[0].hypot(nr[1]));
+    if !(det.abs() > 1e-12 * scale) {
+        return None;
+    }
+    let (dy, dz) = (pr.y - pl.y, pr.z - pl.z);
+    let s = (dy * (-nr[1]) - (-nr[0]) * dz) / det;
+    Some([pl.y + s * nl[0], pl.z + s * nl[1]])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_normals_of_two_symmetric_paths_meet_on_the_centreline() {
+        // Contact points at y = ±750 moving outward by 0.1 mm per mm of rise:
+        // the normals meet at height 0.1 * 750 = 75 mm.
+        let rc = roll_centre(
+            Vec3::new(0.0, 750.0, 0.0),
+            Vec3::new(0.0, 0.1, 1.0),
+            Vec3::new(0.0, -750.0, 0.0),
+            Vec3::new(0.0, -0.1, 1.0),
+        )
+        .expect("they meet");
+        assert!(rc[0].abs() < 1e-12 && (rc[1] - 75.0).abs() < 1e-9, "{rc:?}");
+        // Vertical paths: parallel normals, no roll centre.
+        let v = Vec3::new(0.0, 0.0, 1.0);
+        assert!(
+            roll_centre(
+                Vec3::new(0.0, 750.0, 0.0),
+                v,
+                Vec3::new(0.0, -750.0, 0.0),
+                v
+            )
+            .is_none()
+        );
+    }
+
+    #[test]
+    fn the_reference_is_the_step_nearest_zero_between_its_neighbours() {
+        assert_eq!(reference(&[-2.0, -1.0, 0.1, 1.0, 2.0]), Some((2, 1, 3)));
+        // A turning point at the reference: the step and the next one.
+        assert_eq!(reference(&[1.0, 0.0, 1.0]), Some((1, 1, 2)));
+        assert_eq!(reference(&[0.0, 1.0, 2.0]), Some((0, 0, 1)));
+        // Up and back through zero: the first passage with a neighbour each side.
+        assert_eq!(reference(&[0.0, 1.0, 0.0, -1.0, 0.0]), Some((2, 1, 3)));
+        assert_eq!(reference(&[1.0]), None);
+    }
+}
