@@ -695,6 +695,7 @@ fn lsq_kc_channels_narrow_the_intervals() {
             let q = axle::kc::wheel_quantities(&truth, &e.state, &truth.wheels[0]);
             let c = q.center.map(|v| v + 0.05 * noise.normal());
             let obs = identify::KcObservation {
+                wheel: axle::model::WheelId(0),
                 toe_deg: q.toe_deg + 0.01 * noise.normal(),
                 camber_deg: q.camber_deg + 0.01 * noise.normal(),
                 wc: axle::geom::Vec3::new(c[0], c[1], c[2]),
@@ -705,7 +706,7 @@ fn lsq_kc_channels_narrow_the_intervals() {
     let plain = measured_in_model_frame(&truth, "thesis_table_5_1", 0.05, 12);
     let mut with_kc = plain.clone();
     identify::measured::attach_kc(&mut with_kc, &kc);
-    assert!(with_kc.steps.iter().all(|s| s.kc.is_some()));
+    assert!(with_kc.steps.iter().all(|s| s.kc.len() == 1));
     let names: Vec<String> = ["A.k_x", "A.kt_z", "B.k_x"].map(String::from).to_vec();
     let u = identify::select_unknowns(&truth, &names).expect("unknowns");
     let mut init = truth.clone();
@@ -736,6 +737,58 @@ fn lsq_kc_channels_narrow_the_intervals() {
             "{name}: {pb:?}"
         );
     }
+}
+
+/// Every wheel's K&C channels (issue 13): one K&C CSV of the front axle has
+/// a row per wheel and step (its `wheel` column); each row is compared with
+/// its own wheel, so the right corner's bushing B, started 30 % off, is found
+/// from the landmarks and both wheels' channels.
+#[test]
+fn lsq_on_the_front_axle_compares_each_wheel_with_its_own_kc_rows() {
+    let truth = model(include_str!("../examples/front_axle.axle"));
+    let set = truth.load_set_named("mirrored").expect("set");
+    let eqs = statics::solve_set(&truth, set).expect("solves");
+    let states: Vec<_> = eqs.iter().map(|e| &e.state).collect();
+    let csv = axle::output::kc_table::csv(&axle::kc::kc_rows(&truth, set, &states));
+    let kc = identify::measured::kc_channels(&truth, &csv).expect("reads");
+    assert_eq!(kc.len(), 2 * 3, "a row per wheel and step");
+    // Without a `wheel` column the rows of a two-wheel model are ambiguous.
+    let bare = "step,fx,fy,fz,wc_x,wc_y,wc_z,toe_deg,camber_deg\n1,0,0,4500,0,787,305,0.3,0.5\n";
+    let e = identify::measured::kc_channels(&truth, bare).expect_err("which wheel?");
+    assert_eq!(e.code, "E0708", "{e:?}");
+    let right = truth
+        .wheels
+        .iter()
+        .position(|w| w.name == "front_right.wheel");
+    assert!(
+        kc.iter()
+            .any(|(_, o)| Some(o.wheel.index()) == right && o.wc.y < -700.0)
+    );
+    let plain = measured_in_model_frame(&truth, "mirrored", 0.05, 21);
+    let mut with_kc = plain.clone();
+    identify::measured::attach_kc(&mut with_kc, &kc);
+    assert!(with_kc.steps.iter().all(|s| s.kc.len() == 2));
+    let names = vec!["front_right.B.k_x".to_string()];
+    let u = identify::select_unknowns(&truth, &names).expect("unknowns");
+    let mut init = truth.clone();
+    for x in &u {
+        x.set(&mut init, x.initial * 1.3);
+    }
+    let u0 = identify::select_unknowns(&init, &names).expect("unknowns");
+    let r = identify::lsq::identify(&init, &u0, &with_kc, Default::default()).expect("lsq");
+    // 8 measured parts x 6 x 3 steps, and 5 channels x 2 wheels x 3 steps.
+    assert!(
+        r.notes[0]
+            .text()
+            .contains(&format!("{} independent", 6 * 8 * 3 + 5 * 2 * 3)),
+        "{}",
+        r.notes[0].text()
+    );
+    let (_, p) = param(&r, "front_right.B.k_x");
+    let (lo, hi) = p.interval.expect("identified");
+    eprintln!("front_right.B.k_x: truth {} [{lo}, {hi}]", u[0].initial);
+    assert!(lo <= u[0].initial && u[0].initial <= hi, "{p:?}");
+    assert!(rel(p.value.expect("a value"), u[0].initial) < 0.05, "{p:?}");
 }
 
 /// The McPherson example with bushing A's radial stiffness written as the

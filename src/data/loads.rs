@@ -179,8 +179,12 @@ fn number(f: &Field, column: &str) -> Result<f64, CsvError> {
     }
 }
 
-/// The wheel a row loads: the named one, or the model's only wheel.
-fn wheel_of(model: &Model, field: Option<&Field>, row: &Row) -> Result<WheelId, CsvError> {
+/// The wheel a row loads (or measures): the named one, or the model's only wheel.
+pub(crate) fn wheel_of(
+    model: &Model,
+    field: Option<&Field>,
+    row: &Row,
+) -> Result<WheelId, CsvError> {
     let names = || model.wheels.iter().map(|w| w.name.as_str());
     match field.filter(|f| !f.text.is_empty()) {
         Some(f) => match model.wheels.iter().position(|w| w.name == f.text) {

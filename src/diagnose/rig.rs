@@ -51,12 +51,15 @@ pub struct PoseFitResidual {
 pub fn read(model: &Model, file: FileId, name: &str, text: &str) -> Result<RigPath, Diagnostic> {
     let csv = |e: crate::data::CsvError| e.to_diagnostic(file);
     let (loads, _) = loads_of_file(model, text).map_err(csv)?;
-    let channels = kc_channels(text).map_err(csv)?;
     let wheel = wheel_of(model, file, text)?;
+    let channels = kc_channels(model, text).map_err(csv)?;
     let design = channel::design(model, wheel);
     let mut steps = Vec::with_capacity(loads.len());
     for (step, l) in loads {
-        let Some((_, obs)) = channels.iter().find(|(s, _)| *s == step) else {
+        let Some((_, obs)) = channels
+            .iter()
+            .find(|(s, o)| *s == step && o.wheel == wheel)
+        else {
             continue;
         };
         steps.push(RigStep {

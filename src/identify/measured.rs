@@ -10,12 +10,14 @@ use crate::data::CsvError;
 use crate::data::table;
 use crate::geom::{Mat3, Vec3};
 use crate::measure::poses::StepPoses;
-use crate::model::{ElementId, LoadSet, LoadSetId, Model, PartId, PointLoad};
+use crate::model::{ElementId, LoadSet, LoadSetId, Model, PartId, PointLoad, WheelId};
 use crate::statics::State;
 
 /// K&C channels of one step (`interfaces.md`, "K&C rig data"), of the first wheel.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct KcObservation {
+    /// The wheel measured (the row's `wheel`, or the model's only wheel).
+    pub wheel: WheelId,
     pub toe_deg: f64,
     pub camber_deg: f64,
     /// Wheel centre, mm, global.
@@ -30,7 +32,8 @@ pub struct MeasuredStep {
     /// Pose (origin, rotation) of each part, indexed like `Model::parts`;
     /// `None` for a part not measured at this step. Ground is the identity.
     pub poses: Vec<Option<(Vec3, Mat3)>>,
-    pub kc: Option<KcObservation>,
+    /// The K&C channels measured at this step, one per wheel measured.
+    pub kc: Vec<KcObservation>,
     /// The measured pose of the ground (chassis) at this step after the
     /// registration to the model frame, when the ground has landmarks. The
     /// registration is one rigid transform fitted from every step, so its error
@@ -72,7 +75,7 @@ impl Measured {
                 step: sp.step,
                 loads: l.clone(),
                 poses: p,
-                kc: None,
+                kc: Vec::new(),
                 ground,
             });
         }
@@ -98,7 +101,7 @@ impl Measured {
                 poses: (0..model.parts.len())
                     .map(|p| Some(st.part_pose(PartId(p as u32))))
                     .collect(),
-                kc: None,
+                kc: Vec::new(),
                 ground: None,
             })
             .collect();
@@ -202,9 +205,12 @@ fn step_numbers(text: &str) -> Result<Vec<usize>, CsvError> {
     Ok(out)
 }
 
-/// The K&C channels of a K&C file, by step (first row of each step).
-pub fn kc_channels(text: &str) -> Result<Vec<(usize, KcObservation)>, CsvError> {
+/// The K&C channels of a K&C file, by step and wheel (the first row of each
+/// step and wheel): the `wheel` column names the wheel of each row, required
+/// when the model has several (an axle's file has a row per wheel and step).
+pub fn kc_channels(model: &Model, text: &str) -> Result<Vec<(usize, KcObservation)>, CsvError> {
     let t = table::parse(text)?;
+    let wheel_col = t.column("wheel");
     let names = ["step", "toe_deg", "camber_deg", "wc_x", "wc_y", "wc_z"];
     let mut cols = [0usize; 6];
     for (k, n) in names.iter().enumerate() {
@@ -255,10 +261,13 @@ pub fn kc_channels(text: &str) -> Result<Vec<(usize, KcObservation)>, CsvError> 
                 "in column `step`",
             ));
         }
-        if out.iter().all(|(s, _)| *s != step) {
+        let wheel =
+            crate::data::loads::wheel_of(model, wheel_col.and_then(|c| row.fields.get(c)), row)?;
+        if out.iter().all(|(s, o)| *s != step || o.wheel != wheel) {
             out.push((
                 step,
                 KcObservation {
+                    wheel,
                     toe_deg: v[1],
                     camber_deg: v[2],
                     wc: Vec3::new(v[3], v[4], v[5]),
@@ -301,7 +310,11 @@ pub fn same_steps(kc: &[(usize, KcObservation)], landmark_steps: &[usize]) -> Re
 /// Attaches K&C channels to the steps with the same number.
 pub fn attach_kc(measured: &mut Measured, kc: &[(usize, KcObservation)]) {
     for s in &mut measured.steps {
-        s.kc = kc.iter().find(|(k, _)| *k == s.step).map(|(_, o)| *o);
+        s.kc = kc
+            .iter()
+            .filter(|(k, _)| *k == s.step)
+            .map(|(_, o)| *o)
+            .collect();
     }
 }
 

@@ -15,7 +15,7 @@ use super::lsq::{LsqOptions, dparam, to_param};
 use super::measured::Measured;
 use super::{IdentifyError, Unknown};
 use crate::geom::{Mat3, Vec3, skew};
-use crate::model::{Model, PointLoad, values};
+use crate::model::{Model, PointLoad, WheelId, values};
 use crate::statics::path::Simulator;
 use crate::statics::{CaseSensitivity, Parameter, Problem, State, StaticsError};
 use nalgebra::{DMatrix, DVector};
@@ -66,11 +66,10 @@ pub(super) enum Obs {
         target: Vec3,
     },
     /// A ground landmark: it does not move, so it observes only the registration.
-    Ground {
-        design: Vec3,
-        target: Vec3,
-    },
+    Ground { design: Vec3, target: Vec3 },
+    /// A K&C channel of one wheel: 0 toe, 1 camber, 2-4 the centre's x, y, z.
     Kc {
+        wheel: WheelId,
         channel: usize,
         target: f64,
     },
@@ -99,8 +98,8 @@ pub(super) struct Problemset<'a> {
     pub nr: usize,
 }
 
-fn kc_value(model: &Model, st: &State, channel: usize) -> f64 {
-    let q = crate::kc::wheel_quantities(model, st, &model.wheels[0]);
+fn kc_value(model: &Model, st: &State, wheel: WheelId, channel: usize) -> f64 {
+    let q = crate::kc::wheel_quantities(model, st, &model.wheels[wheel.index()]);
     match channel {
         0 => q.toe_deg,
         1 => q.camber_deg,
@@ -222,9 +221,11 @@ impl Problemset<'_> {
                             res.push((design[c] - y[c]) * w);
                         }
                     }
-                    Obs::Kc { channel, target } => {
-                        res.push((kc_value(&m, st, channel) - target) * w)
-                    }
+                    Obs::Kc {
+                        wheel,
+                        channel,
+                        target,
+                    } => res.push((kc_value(&m, st, wheel, channel) - target) * w),
                 }
             }
         }
@@ -286,9 +287,10 @@ impl Problemset<'_> {
                         reg_rows(&target, w, &mut three);
                         rows.extend(three);
                     }
-                    Obs::Kc { channel, .. } => {
+                    Obs::Kc { wheel, channel, .. } => {
                         // An explicit function of the state: its derivative along each motion.
-                        let d = sens.output(&ev.problem, st, |s| kc_value(model, s, channel));
+                        let d =
+                            sens.output(&ev.problem, st, |s| kc_value(model, s, wheel, channel));
                         let mut row = DVector::zeros(nx);
                         for i in 0..nu {
                             row[i] = if d[i].is_finite() {
@@ -354,12 +356,13 @@ pub(super) fn observations(model: &Model, data: &Measured) -> (Vec<Vec<Obs>>, us
                 registered = true;
             }
         }
-        if let (Some(kc), false) = (s.kc, model.wheels.is_empty()) {
+        for kc in &s.kc {
             for (c, v) in [kc.toe_deg, kc.camber_deg, kc.wc.x, kc.wc.y, kc.wc.z]
                 .into_iter()
                 .enumerate()
             {
                 o.push(Obs::Kc {
+                    wheel: kc.wheel,
                     channel: c,
                     target: v,
                 });

@@ -88,7 +88,8 @@ fn row(step: usize, w: &Wheel, load: (Vec3, Vec3), q: WheelQuantities) -> KcRow 
 /// the wheel's part; `None` when neither was measured.
 fn measured_row(model: &Model, data: &Measured, k: usize, w: &Wheel) -> Option<WheelQuantities> {
     let s = &data.steps[k];
-    if let Some(o) = s.kc {
+    let id = model.wheels.iter().position(|x| x.name == w.name);
+    if let Some(o) = s.kc.iter().find(|o| Some(o.wheel.index()) == id) {
         // Only toe, camber and the centre are channels of a K&C file.
         let design = wheel_quantities(model, &State::design(model), w);
         return Some(WheelQuantities {

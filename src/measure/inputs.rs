@@ -295,7 +295,7 @@ pub fn assemble(
             let text = sources.text(id);
             let (l, _) = measured::loads_of_file(model, text).map_err(|e| e.to_diagnostic(id))?;
             if let LoadSource::Kc(_) = loads {
-                kc = measured::kc_channels(text).map_err(|e| e.to_diagnostic(id))?;
+                kc = measured::kc_channels(model, text).map_err(|e| e.to_diagnostic(id))?;
                 // Every step measured by both, or the files are of two runs.
                 measured::same_steps(&kc, &steps).map_err(|why| {
                     Diagnostic::error("E0809", why).primary(Span::new(id, 0, 0), "this K&C file")

@@ -99,7 +99,7 @@ impl Address {
                     });
                 }
             },
-            [part, marker, field] => (Self::point_on_part(model, part, marker)?, field),
+            [.., field] if pieces.len() >= 3 => (Self::qualified(model, &pieces)?, field),
             _ => {
                 return Err(AddressError::UnknownElement {
                     name: name.to_string(),
@@ -121,6 +121,39 @@ impl Address {
                     .collect(),
             }),
         }
+    }
+
+    /// What `pieces` without the last (the field) name, when they are three
+    /// or more: an element of an instance (`front_right.B`), or a point on a
+    /// part (`upright.WC`, `front_left.upright.WC`), the part's name being
+    /// the first pieces that name a part.
+    fn qualified(model: &Model, pieces: &[&str]) -> Result<ElementId, AddressError> {
+        let head = &pieces[..pieces.len() - 1];
+        if let Some(e) = Self::element_named(model, &head.join(".")) {
+            return Ok(e);
+        }
+        let mut first_err = None;
+        for k in 1..head.len() {
+            let part = head[..k].join(".");
+            if model.part_named(&part).is_some() {
+                match Self::point_on_part(model, &part, &head[k..].join(".")) {
+                    Ok(e) => return Ok(e),
+                    Err(e) => {
+                        first_err.get_or_insert(e);
+                    }
+                }
+            }
+        }
+        Err(first_err.unwrap_or_else(|| match head {
+            [part, _] => AddressError::UnknownElement {
+                name: part.to_string(),
+                candidates: model.parts.iter().map(|p| p.name.clone()).collect(),
+            },
+            _ => AddressError::UnknownElement {
+                name: pieces.join("."),
+                candidates: Self::element_names(model),
+            },
+        }))
     }
 
     /// A force element or joint by name (names of these kinds are unique).

@@ -136,3 +136,39 @@ fn unknown_names_say_what_exists() {
     assert_eq!(d.code, "E0803");
     assert_eq!(d.hint.as_deref(), Some("did you mean `free_length`?"));
 }
+
+/// The front axle's qualified names (issue 13): every number of an instance
+/// is addressed by its qualified name (`front_right.B.k_x`,
+/// `front_left.upright.WC.x`, `chassis.front_left.B.y`) and round-trips.
+#[test]
+fn every_address_of_the_front_axle_round_trips_with_qualified_names() {
+    let (_, c) = crate::check::check_str(
+        "front_axle.axle",
+        include_str!("../../examples/front_axle.axle"),
+    );
+    let m = c.model.expect("checks");
+    let all = Address::all(&m);
+    assert!(all.len() > 300, "{}", all.len());
+    for a in &all {
+        let name = a.name(&m);
+        assert_eq!(Address::parse(&m, &name), Ok(*a), "{name}");
+    }
+    for name in [
+        "front_right.B.k_x",
+        "front_left.upright.WC.x",
+        "chassis.front_left.B.y",
+        "bar.torsion.kt_y",
+    ] {
+        let a = Address::parse(&m, name).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(a.name(&m), name);
+    }
+    assert_eq!(
+        Address::parse(&m, "front_right.B.k_x").map(|a| a.get(&m)),
+        Ok(310.0)
+    );
+    // A misspelt marker of a qualified part names the part.
+    match Address::parse(&m, "front_left.upright.WX.x") {
+        Err(AddressError::UnknownPoint { part, .. }) => assert_eq!(part, "front_left.upright"),
+        other => panic!("{other:?}"),
+    }
+}
