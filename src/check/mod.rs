@@ -260,7 +260,7 @@ impl Checker {
             })
             .collect();
         self.parts(ast);
-        self.mirror();
+        self.mirror(ast);
         self.elements(ast);
         self.loads(ast, imports);
         self.default_loads(default);
