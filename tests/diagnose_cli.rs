@@ -244,3 +244,60 @@ fn landmarks_are_a_channel_and_must_come_from_the_same_run() {
         "{err}"
     );
 }
+
+/// An axle on the rig (issue 13): one K&C file with a row per wheel and
+/// step, both wheels loaded. The truth's right spring is 10 mm longer; the
+/// diagnosis replays both wheels' loads, compares each wheel with its own
+/// rows, and names the right spring, not the left.
+#[test]
+fn an_axle_file_of_both_wheels_names_the_cause_on_its_side() {
+    let axle_text = include_str!("../examples/front_axle.axle").replace(
+        "default loads parallel_bump",
+        "loads short_bump sweep {\n    front_left.wheel.fz 2000 N -> 7000 N by 500 N\n    front_right.wheel.fz 2000 N -> 7000 N by 500 N\n}\n\ndefault loads short_bump",
+    );
+    let model = scratch("axle_model.axle", &axle_text);
+    let truth = scratch(
+        "axle_truth.axle",
+        &axle_text.replace(
+            "instance front_right = mirror mcpherson_corner()",
+            "instance front_right = mirror mcpherson_corner(free_length = 300 mm)",
+        ),
+    );
+    let csv = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("axle_short_bump.csv")
+        .to_string_lossy()
+        .into_owned();
+    let (code, _, err) = axle(&[
+        "kc",
+        &truth,
+        "--sweep",
+        "short_bump",
+        "--format",
+        "csv",
+        "-o",
+        &csv,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&csv).expect("written");
+    assert!(text.contains("front_left.wheel") && text.contains("front_right.wheel"));
+    let (code, table, err) = axle(&[
+        "diagnose",
+        &model,
+        "--kc",
+        &csv,
+        "--candidates",
+        "spring_free_length,stiffness",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let first = table.lines().nth(1).expect("a first finding");
+    assert!(
+        first.starts_with("1. Spring `front_right.spring` has a free length of 300"),
+        "{table}"
+    );
+    assert!(!first.contains("front_left"), "{table}");
+    // Each wheel is a path of its own, named after the file and the wheel.
+    assert!(
+        table.contains("axle_short_bump[front_right.wheel]"),
+        "{table}"
+    );
+}

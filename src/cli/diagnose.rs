@@ -108,6 +108,8 @@ pub fn run(a: &Args) -> Exit {
         Err(e) => return e,
     };
     let mut paths = Vec::new();
+    // The first path of each file: landmark files pair with K&C files.
+    let mut firsts = Vec::new();
     for p in &a.kc {
         let text = match super::read(p) {
             Ok(t) => t,
@@ -119,7 +121,10 @@ pub fn run(a: &Args) -> Exit {
         );
         let file = sources.add(super::read::shown(p), text);
         match rig::read(&model, file, &name, sources.text(file)) {
-            Ok(r) => paths.push(r),
+            Ok(r) => {
+                firsts.push(paths.len());
+                paths.extend(r);
+            }
             Err(d) => {
                 render::to_stderr(&sources, &[d]);
                 return Exit::Input;
@@ -134,7 +139,13 @@ pub fn run(a: &Args) -> Exit {
         }
     };
     let mut remarks = crate::measure::inputs::Remarks::default();
-    let joined = landmarks::attach(&sources, &model, &mut paths, &files, &mut remarks);
+    // A file of two wheels gives two paths of the same run: its landmarks
+    // go with the first (the parts' poses, counted once).
+    let mut heads: Vec<rig::RigPath> = firsts.iter().map(|&i| paths[i].clone()).collect();
+    let joined = landmarks::attach(&sources, &model, &mut heads, &files, &mut remarks);
+    for (&i, h) in firsts.iter().zip(heads) {
+        paths[i] = h;
+    }
     super::locate::render_remarks(&sources, &remarks);
     if let Err(d) = joined {
         render::to_stderr(&sources, &[d]);

@@ -178,6 +178,7 @@ mod tests {
             name: "p".into(),
             file: crate::span::FileId(0),
             wheel: crate::model::WheelId(0),
+            contact: crate::model::MarkerId(0),
             steps: vec![RigStep {
                 step: 1,
                 loads: vec![],

@@ -9,7 +9,7 @@ use crate::diagnostic::Diagnostic;
 use crate::diagnostic::suggest::did_you_mean;
 use crate::geom::Vec3;
 use crate::identify::measured::{kc_channels, loads_of_file};
-use crate::model::{LandmarkId, Model, PointLoad, WheelId};
+use crate::model::{LandmarkId, MarkerId, Model, PointLoad, WheelId};
 use crate::span::{FileId, Span};
 
 /// One measured step of a path.
@@ -32,6 +32,9 @@ pub struct RigPath {
     pub name: String,
     pub file: FileId,
     pub wheel: WheelId,
+    /// The wheel's contact marker: where its loads apply (an axle's path
+    /// also carries the other wheel's).
+    pub contact: MarkerId,
     pub steps: Vec<RigStep>,
     /// What the landmarks' rigid pose fits left: the sum of squared
     /// residuals (mm²) and its degrees of freedom, for the landmark noise.
@@ -47,55 +50,71 @@ pub struct PoseFitResidual {
     pub dof: usize,
 }
 
-/// Reads one K&C file for `model`.
-pub fn read(model: &Model, file: FileId, name: &str, text: &str) -> Result<RigPath, Diagnostic> {
+/// Reads one K&C file for `model`: one path per wheel the file measures (an
+/// axle's file has a row per wheel and step). Every path replays the loads of
+/// all the file's rows (both wheels loaded, as on the rig) and compares the
+/// channels of its own wheel; a file of several wheels names its paths
+/// `NAME[WHEEL]`.
+pub fn read(
+    model: &Model,
+    file: FileId,
+    name: &str,
+    text: &str,
+) -> Result<Vec<RigPath>, Diagnostic> {
     let csv = |e: crate::data::CsvError| e.to_diagnostic(file);
+    let wheels = wheels_of(model, file, text)?;
     let (loads, _) = loads_of_file(model, text).map_err(csv)?;
-    let wheel = wheel_of(model, file, text)?;
     let channels = kc_channels(model, text).map_err(csv)?;
-    let design = channel::design(model, wheel);
-    let mut steps = Vec::with_capacity(loads.len());
-    for (step, l) in loads {
-        let Some((_, obs)) = channels
-            .iter()
-            .find(|(s, o)| *s == step && o.wheel == wheel)
-        else {
-            continue;
-        };
-        steps.push(RigStep {
-            step,
-            loads: l,
-            measured: channel::of_observation(&design, obs),
-            landmarks: Vec::new(),
+    let mut paths = Vec::with_capacity(wheels.len());
+    for &wheel in &wheels {
+        let design = channel::design(model, wheel);
+        let mut steps = Vec::with_capacity(loads.len());
+        for (step, l) in &loads {
+            let Some((_, obs)) = channels.iter().find(|(s, o)| s == step && o.wheel == wheel)
+            else {
+                continue;
+            };
+            steps.push(RigStep {
+                step: *step,
+                loads: l.clone(),
+                measured: channel::of_observation(&design, obs),
+                landmarks: Vec::new(),
+            });
+        }
+        if steps.is_empty() {
+            return Err(Diagnostic::error("E1301", "the K&C file has no measured step")
+                .primary(Span::new(file, 0, 0), "no data row")
+                .hint("a K&C file has a header row and one row per step: step, fx, fy, fz, wc_x, wc_y, wc_z, toe_deg, camber_deg"));
+        }
+        paths.push(RigPath {
+            name: if wheels.len() == 1 {
+                name.to_string()
+            } else {
+                format!("{name}[{}]", model.wheels[wheel.index()].name)
+            },
+            file,
+            wheel,
+            contact: model.wheels[wheel.index()].contact,
+            steps,
+            pose_fit: PoseFitResidual::default(),
+            landmark_names: model
+                .landmarks
+                .iter()
+                .map(|l| format!("{}.{}", model.part(l.part).name, l.name))
+                .collect(),
         });
     }
-    if steps.is_empty() {
-        return Err(Diagnostic::error("E1301", "the K&C file has no measured step")
-            .primary(Span::new(file, 0, 0), "no data row")
-            .hint("a K&C file has a header row and one row per step: step, fx, fy, fz, wc_x, wc_y, wc_z, toe_deg, camber_deg"));
-    }
-    Ok(RigPath {
-        name: name.to_string(),
-        file,
-        wheel,
-        steps,
-        pose_fit: PoseFitResidual::default(),
-        landmark_names: model
-            .landmarks
-            .iter()
-            .map(|l| format!("{}.{}", model.part(l.part).name, l.name))
-            .collect(),
-    })
+    Ok(paths)
 }
 
-/// The wheel a K&C file measures: its `wheel` column (one wheel per file), or
-/// the model's only wheel.
-fn wheel_of(model: &Model, file: FileId, text: &str) -> Result<WheelId, Diagnostic> {
+/// The wheels a K&C file measures, in the order they first appear: its
+/// `wheel` column, or the model's only wheel.
+fn wheels_of(model: &Model, file: FileId, text: &str) -> Result<Vec<WheelId>, Diagnostic> {
     let t = table::parse(text).map_err(|e| e.to_diagnostic(file))?;
     let names: Vec<&str> = model.wheels.iter().map(|w| w.name.as_str()).collect();
     let Some(col) = t.column("wheel") else {
         return match model.wheels.len() {
-            1 => Ok(WheelId(0)),
+            1 => Ok(vec![WheelId(0)]),
             0 => Err(Diagnostic::error(
                 "E1302",
                 "the model has no wheel, so K&C channels cannot be compared",
@@ -113,7 +132,7 @@ fn wheel_of(model: &Model, file: FileId, text: &str) -> Result<WheelId, Diagnost
             .hint(format!("add a `wheel` column naming one of: {}", names.join(", ")))),
         };
     };
-    let mut found: Option<(WheelId, &table::Field)> = None;
+    let mut found: Vec<WheelId> = Vec::new();
     for row in &t.rows {
         let Some(f) = row.fields.get(col) else {
             continue;
@@ -127,27 +146,17 @@ fn wheel_of(model: &Model, file: FileId, text: &str) -> Result<WheelId, Diagnost
             });
         };
         let id = WheelId(k as u32);
-        match found {
-            None => found = Some((id, f)),
-            Some((w, first)) if w != id => {
-                return Err(Diagnostic::error(
-                    "E1302",
-                    format!(
-                        "the K&C file measures two wheels (`{}` and `{}`); diagnose reads one wheel per file",
-                        first.text, f.text
-                    ),
-                )
-                .primary(Span::new(file, f.start, f.end), "second wheel")
-                .secondary(Span::new(file, first.start, first.end), "first wheel")
-                .hint("split the file by wheel and give each with its own --kc"));
-            }
-            Some(_) => {}
+        if !found.contains(&id) {
+            found.push(id);
         }
     }
-    found.map(|(w, _)| w).ok_or_else(|| {
-        Diagnostic::error("E1301", "the K&C file has no measured step")
-            .primary(Span::new(file, t.header.start, t.header.end), "header only")
-    })
+    if found.is_empty() {
+        return Err(
+            Diagnostic::error("E1301", "the K&C file has no measured step")
+                .primary(Span::new(file, t.header.start, t.header.end), "header only"),
+        );
+    }
+    Ok(found)
 }
 
 impl RigPath {
@@ -156,15 +165,21 @@ impl RigPath {
         self.steps.iter().any(|s| !s.landmarks.is_empty())
     }
 
-    /// The component of the wheel load that varies most along the path (the
-    /// sweep's load): its name and its value (N) at every step.
+    /// The component of the path's wheel load that varies most along the path
+    /// (the sweep's load): its name and its value (N) at every step.
     pub fn main_load(&self) -> (&'static str, Vec<f64>) {
         let names = ["fx", "fy", "fz"];
         let series: Vec<Vec<f64>> = (0..3)
             .map(|c| {
                 self.steps
                     .iter()
-                    .map(|s| s.loads.iter().map(|l| l.force[c]).sum())
+                    .map(|s| {
+                        s.loads
+                            .iter()
+                            .filter(|l| l.marker == self.contact)
+                            .map(|l| l.force[c])
+                            .sum()
+                    })
                     .collect()
             })
             .collect();
