@@ -94,6 +94,38 @@ fn options(a: &Args) -> Result<Options, Exit> {
     Ok(o)
 }
 
+/// A K&C file of some of the model's wheels: the others are replayed
+/// unloaded, which is right only if the rig left them so (W1307).
+fn unloaded_wheels(
+    model: &crate::model::Model,
+    paths: &[rig::RigPath],
+    file: crate::span::FileId,
+) -> Option<crate::diagnostic::Diagnostic> {
+    let missing: Vec<&str> = model
+        .wheels
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| paths.iter().all(|p| p.wheel.index() != *k))
+        .map(|(_, w)| w.name.as_str())
+        .collect();
+    if missing.is_empty() {
+        return None;
+    }
+    Some(
+        crate::diagnostic::Diagnostic::warning(
+            "W1307",
+            format!(
+                "the K&C file has no rows of wheel{} {}: replayed unloaded",
+                if missing.len() > 1 { "s" } else { "" },
+                missing.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ")
+            ),
+        )
+        .primary(crate::span::Span::new(file, 0, 0), "this K&C file")
+        .note("on an axle rig both wheels are usually loaded; a wheel left out of the file is taken as carrying no load, and the diagnosis then explains a difference the rig did not have")
+        .hint("give the rows of every wheel the rig loaded (`wheel` column), one row per wheel and step"),
+    )
+}
+
 pub fn run(a: &Args) -> Exit {
     let opts = match options(a) {
         Ok(o) => o,
@@ -122,6 +154,9 @@ pub fn run(a: &Args) -> Exit {
         let file = sources.add(super::read::shown(p), text);
         match rig::read(&model, file, &name, sources.text(file)) {
             Ok(r) => {
+                if let Some(w) = unloaded_wheels(&model, &r, file) {
+                    render::to_stderr(&sources, &[w]);
+                }
                 firsts.push(paths.len());
                 paths.extend(r);
             }
