@@ -205,3 +205,35 @@ fn front_axle_metrics_as_printed() {
         );
     }
 }
+
+/// Opposed travel is plotted against the body's roll angle, both wheels on
+/// every panel, the branches named by the direction the body rolls.
+#[test]
+fn roll_is_plotted_against_the_roll_angle() {
+    let svg = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("front_axle_roll.svg");
+    let svg = svg.to_string_lossy().into_owned();
+    let (code, _, err) = common::axle(&[
+        "kc",
+        "examples/front_axle.axle",
+        "--sweep",
+        "roll",
+        "--plot",
+        &svg,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&svg).expect("written");
+    assert_eq!(
+        text.matches("body roll angle [deg]").count(),
+        4,
+        "one x label a panel"
+    );
+    for label in [
+        "front_left.wheel, roll increasing",
+        "front_right.wheel, roll decreasing",
+        "Toe angle",
+        "Wheel load",
+    ] {
+        assert!(text.contains(label), "{label}");
+    }
+    assert!(!text.contains("load increasing"));
+}

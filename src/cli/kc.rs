@@ -3,7 +3,7 @@
 use super::input::{emit, load_model, pick_set_reported};
 use super::{Exit, OutFormat};
 use crate::diagnostic::Diagnostic;
-use crate::kc::{KcRow, axle_metrics, kc_rows};
+use crate::kc::{KcRow, Motion, axle_metrics, kc_rows};
 use crate::model::{Component, LoadForm, LoadSet, LoadSetId, Model};
 use crate::output::plot::{Sweep, svg};
 use crate::output::warning;
@@ -149,7 +149,13 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
     };
     if let Some(path) = &args.plot {
         let title = format!("{}: K&C, {} ({steps})", model.name, ls.name);
-        let text = svg(&title, &rows, sweep_kind(ls)).map_err(|e| {
+        // Opposed travel of an axle is drawn against the roll angle.
+        let kind = if axles.iter().any(|a| a.motion == Motion::Opposed) {
+            Sweep::Roll
+        } else {
+            sweep_kind(ls)
+        };
+        let text = svg(&title, &rows, kind).map_err(|e| {
             eprintln!("error: cannot draw the plots: {e}");
             Exit::Io
         })?;

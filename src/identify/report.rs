@@ -81,6 +81,7 @@ fn row(step: usize, w: &Wheel, load: (Vec3, Vec3), q: WheelQuantities) -> KcRow 
         force: load.0.into(),
         torque: load.1.into(),
         quantities: q,
+        roll_deg: None,
     }
 }
 

@@ -10,7 +10,7 @@
 //! right-handed about x, positive when the body's left side rises relative
 //! to the wheels (the left wheel drops, the right one rises).
 
-use super::wheel::{contact_point, wheel_quantities};
+use super::wheel::{WheelQuantities, contact_point, wheel_quantities};
 use crate::geom::Vec3;
 use crate::model::{Component, LoadSetId, LoadTarget, Model, WheelId};
 use crate::statics::State;
@@ -95,6 +95,15 @@ pub fn wheel_pairs(model: &Model) -> Vec<(WheelId, WheelId)> {
         }
     }
     pairs
+}
+
+/// The body's roll relative to an axle's wheels (deg): right-handed about x,
+/// positive when the left wheel drops and the right one rises, from the
+/// wheel centres' travel and their lateral distance.
+pub fn roll_angle(left: &WheelQuantities, right: &WheelQuantities) -> f64 {
+    (right.travel_mm - left.travel_mm)
+        .atan2(left.center[1] - right.center[1])
+        .to_degrees()
 }
 
 /// The vertical load on a wheel in every case of a set (N).
@@ -193,15 +202,7 @@ pub fn axle_metrics(model: &Model, set: LoadSetId, states: &[&State]) -> Vec<Axl
             .iter()
             .map(|s| (contact_point(model, s, wl), contact_point(model, s, wr)))
             .unzip();
-        // Body roll relative to the wheels, from the wheel centres' travel.
-        let roll: Vec<f64> = (0..n)
-            .map(|k| {
-                let (a, b) = (ql[k].center, qr[k].center);
-                (qr[k].travel_mm - ql[k].travel_mm)
-                    .atan2(a[1] - b[1])
-                    .to_degrees()
-            })
-            .collect();
+        let roll: Vec<f64> = (0..n).map(|k| roll_angle(&ql[k], &qr[k])).collect();
         let driver: Vec<f64> = match mo {
             Motion::Parallel => (0..n)
                 .map(|k| 0.5 * (ql[k].travel_mm + qr[k].travel_mm))
@@ -211,7 +212,7 @@ pub fn axle_metrics(model: &Model, set: LoadSetId, states: &[&State]) -> Vec<Axl
         let Some((k, a, b)) = reference(&driver) else {
             continue;
         };
-        let slopes = |q: &[super::WheelQuantities], f: &[f64], name: &str| {
+        let slopes = |q: &[WheelQuantities], f: &[f64], name: &str| {
             let dx = match mo {
                 Motion::Parallel => q[b].travel_mm - q[a].travel_mm,
                 Motion::Opposed => roll[b] - roll[a],

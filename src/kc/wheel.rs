@@ -78,6 +78,11 @@ pub struct KcRow {
     /// `[mx, my, mz]`, N·mm.
     pub torque: [f64; 3],
     pub quantities: WheelQuantities,
+    /// The body's roll relative to the wheels at this step (deg, ISO 8855,
+    /// `docs/kc.md`) when the wheel is one of an axle's pair (not part of
+    /// the CSV or JSON rows).
+    #[serde(skip)]
+    pub roll_deg: Option<f64>,
 }
 
 /// The K&C rows of solved cases of a load set, one per case and wheel (wheels
@@ -86,9 +91,11 @@ pub fn kc_rows(model: &Model, set: LoadSetId, states: &[&State]) -> Vec<KcRow> {
     let Some(ls) = model.load_sets.get(set.index()) else {
         return Vec::new();
     };
+    let pairs = super::axle::wheel_pairs(model);
     let mut rows = Vec::new();
     for (k, (case, st)) in ls.cases.iter().zip(states).enumerate() {
         let loads = model.point_loads(set, k);
+        let first = rows.len();
         for w in &model.wheels {
             let (mut f, mut t) = (Vec3::zeros(), Vec3::zeros());
             for l in loads.iter().filter(|l| l.marker == w.contact) {
@@ -102,7 +109,17 @@ pub fn kc_rows(model: &Model, set: LoadSetId, states: &[&State]) -> Vec<KcRow> {
                 force: f.into(),
                 torque: t.into(),
                 quantities: wheel_quantities(model, st, w),
+                roll_deg: None,
             });
+        }
+        for &(l, r) in &pairs {
+            let (ql, qr) = (
+                rows[first + l.index()].quantities,
+                rows[first + r.index()].quantities,
+            );
+            let roll = super::axle::roll_angle(&ql, &qr);
+            rows[first + l.index()].roll_deg = Some(roll);
+            rows[first + r.index()].roll_deg = Some(roll);
         }
     }
     rows

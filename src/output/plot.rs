@@ -16,6 +16,9 @@ pub enum Sweep {
     Force(usize),
     /// A load table whose cases vary several components: against the case.
     Case,
+    /// Opposed travel of an axle's wheels: everything against the body's
+    /// roll angle (`KcRow::roll_deg`), with the wheel load as a panel.
+    Roll,
 }
 
 /// A panel: title, y label, and the quantity.
@@ -62,7 +65,7 @@ pub fn panel_titles(sweep: Sweep) -> Vec<&'static str> {
 
 fn panels(sweep: Sweep) -> Vec<Panel> {
     match sweep {
-        Sweep::Bump => vec![TOE, CAMBER, TRACK, LOAD],
+        Sweep::Bump | Sweep::Roll => vec![TOE, CAMBER, TRACK, LOAD],
         Sweep::Force(_) | Sweep::Case => vec![TOE, CAMBER],
     }
 }
@@ -73,6 +76,7 @@ fn x_of(sweep: Sweep, r: &KcRow) -> f64 {
         Sweep::Force(c) if c < 3 => r.force[c],
         Sweep::Force(c) => r.torque[(c - 3).min(2)],
         Sweep::Case => r.step as f64,
+        Sweep::Roll => r.roll_deg.unwrap_or(f64::NAN),
     }
 }
 
@@ -135,6 +139,8 @@ fn load_of(sweep: Sweep, r: &KcRow) -> f64 {
         Sweep::Force(c) => r.torque[(c - 3).min(2)],
         // Cases in order: one run, never "unloading".
         Sweep::Case => r.step as f64,
+        // Branches by the direction the body rolls.
+        Sweep::Roll => r.roll_deg.unwrap_or(0.0),
     }
 }
 
@@ -170,6 +176,15 @@ fn runs<'a>(rows: &[&'a KcRow], sweep: Sweep) -> Vec<(bool, Vec<&'a KcRow>)> {
 /// the legend word of each direction.
 pub const BRANCH_LABELS: [&str; 2] = ["load increasing", "load decreasing"];
 
+/// The legend word of a branch: by the swept load, or for a roll by the
+/// direction the body rolls.
+fn branch_label(sweep: Sweep, up: bool) -> &'static str {
+    match sweep {
+        Sweep::Roll => ["roll increasing", "roll decreasing"][usize::from(!up)],
+        _ => BRANCH_LABELS[usize::from(!up)],
+    }
+}
+
 /// The SVG text of the plots of a K&C path. A path that turns back (a sweep
 /// up and down) is drawn as one polyline per direction, each direction with
 /// its colour and legend entry, so that hysteresis (dry friction) shows as
@@ -189,8 +204,8 @@ pub fn svg(title: &str, rows: &[KcRow], sweep: Sweep) -> Result<String, String> 
         for (up, run) in rs {
             let label = match (turns, wheels.len() > 1) {
                 (false, _) => w.to_string(),
-                (true, false) => BRANCH_LABELS[usize::from(!up)].to_string(),
-                (true, true) => format!("{w}, {}", BRANCH_LABELS[usize::from(!up)]),
+                (true, false) => branch_label(sweep, up).to_string(),
+                (true, true) => format!("{w}, {}", branch_label(sweep, up)),
             };
             let first = !lines.iter().any(|l| l.label == label);
             lines.push(Line {
@@ -240,6 +255,7 @@ fn draw(title: &str, lines: &[Line], sweep: Sweep, legend: bool) -> Result<Strin
         Sweep::Bump => "wheel travel [mm]",
         Sweep::Force(c) => FORCE_LABELS[c.min(5)],
         Sweep::Case => "load case (step)",
+        Sweep::Roll => "body roll angle [deg]",
     };
     let cols = 2u32;
     let nrows = panels.len().div_ceil(2) as u32;
