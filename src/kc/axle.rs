@@ -254,7 +254,8 @@ fn roll_centre(pl: Vec3, vl: Vec3, pr: Vec3, vr: Vec3) -> Option<[f64; 2]> {
     let (nl, nr) = ([vl.z, -vl.y], [vr.z, -vr.y]);
     let det = nl[0] * (-nr[1]) - (-nr[0]) * nl[1];
     let scale = (nl[0].hypot(nl[1])) * (nr[0].hypot(nr[1]));
-    if !(det.abs() > 1e-12 * scale) {
+    // Also catches a NaN determinant (a path that did not move).
+    if det.is_nan() || det.abs() <= 1e-12 * scale {
         return None;
     }
     let (dy, dz) = (pr.y - pl.y, pr.z - pl.z);
