@@ -152,11 +152,11 @@ impl Workspace {
                 // The same products and sums into the pattern's slots: rows
                 // `ro..ro + 3` are one half of a part's rows, contiguous there.
                 NewtonMatrix::Sparse(pat, vals) => w.each_tangent(|ro, co, blk| {
-                    for b in 0..3 {
-                        let Some(at) = pat.slot(ro, co + b) else {
-                            *inside = false;
-                            continue;
-                        };
+                    let Some(slots) = pat.block_slots(ro, co) else {
+                        *inside = false;
+                        return;
+                    };
+                    for (b, &at) in slots.iter().enumerate() {
                         let sj = scale[co + b];
                         let rows = blk.column(b);
                         for (x, (v, si)) in vals[at..at + 3]

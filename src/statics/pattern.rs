@@ -122,6 +122,18 @@ impl Pattern {
         Some(self.col_ptr[col] + 6 * t + row % 6)
     }
 
+    /// The first slots of rows `row..row + 3` in the three columns
+    /// `col..col + 3` of one part (a 3×3 block of `K`): one search for all.
+    pub fn block_slots(&self, row: usize, col: usize) -> Option<[usize; 3]> {
+        let list = self.parts.get(col / 6)?;
+        if col % 6 > 3 {
+            return None;
+        }
+        let t = list.binary_search(&(row / 6)).ok()?;
+        let off = 6 * t + row % 6;
+        Some([0, 1, 2].map(|b| self.col_ptr[col + b] + off))
+    }
+
     /// The slot of entry `(n + k, col)`: multiplier `k`'s row in the column
     /// of coordinate `col`.
     pub fn multiplier_slot(&self, k: usize, col: usize) -> Option<usize> {
