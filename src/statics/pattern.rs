@@ -35,6 +35,9 @@ pub(crate) struct Pattern {
     /// A fill-reducing column order (COLAMD) and its inverse, for the sparse LU.
     pub order: Vec<usize>,
     pub order_inv: Vec<usize>,
+    /// The pivots every sparse LU of the problem starts from (those of the
+    /// matrix at design, [`super::tangent::seed_pivots`]).
+    pub pivots: std::sync::OnceLock<super::sparse::Pivots>,
 }
 
 impl Pattern {
@@ -99,6 +102,7 @@ impl Pattern {
             row_idx,
             order,
             order_inv,
+            pivots: std::sync::OnceLock::new(),
         })
     }
 

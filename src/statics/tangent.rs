@@ -70,6 +70,26 @@ impl NewtonMatrix {
     }
 }
 
+/// Factorises the Newton matrix at design (no loads, no multipliers) once,
+/// for the pivots every sparse LU of `p` starts refactorising from: the same
+/// for every solver of the problem, whatever ran before on which thread.
+pub(crate) fn seed_pivots(p: &super::Problem) {
+    let Some(pat) = &p.pattern else { return };
+    let mut ws = super::assembly::Workspace::new(p);
+    let design = super::coords::State::design(&p.model);
+    if ws.eval(p, &design, &[], true).is_err() {
+        return;
+    }
+    if let NewtonMatrix::Sparse(_, v) = &ws.a {
+        let mut lu = SparseLu::new(pat.clone());
+        if lu.factor(v)
+            && let Some(pv) = lu.pivots()
+        {
+            let _ = pat.pivots.set(pv);
+        }
+    }
+}
+
 /// The factorisation of a [`NewtonMatrix`], in the storage of the last
 /// matrix factorised.
 pub(crate) enum Factorisation {
