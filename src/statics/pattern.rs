@@ -17,7 +17,6 @@ use super::constraint::evaluate;
 use super::coords::State;
 use super::forces::for_each_element;
 use faer::sparse::SymbolicSparseColMatRef;
-use faer::sparse::linalg::colamd;
 
 #[derive(Debug)]
 pub(crate) struct Pattern {
@@ -32,7 +31,7 @@ pub(crate) struct Pattern {
     of_mult: Vec<Vec<usize>>,
     pub col_ptr: Vec<usize>,
     pub row_idx: Vec<usize>,
-    /// A fill-reducing column order (COLAMD) and its inverse, for the sparse LU.
+    /// A fill-reducing column order (AMD) and its inverse, for the sparse LU.
     pub order: Vec<usize>,
     pub order_inv: Vec<usize>,
     /// The pivots every sparse LU of the problem starts from (those of the
@@ -158,19 +157,21 @@ impl Pattern {
     }
 }
 
-/// COLAMD's column order of the pattern (which bounds the fill of an LU with
-/// any row pivoting), computed once.
+/// AMD's order of the (symmetric) pattern, computed once. Measured against
+/// COLAMD's (which bounds the fill of an LU with any row pivoting): on eight
+/// coupled corners AMD's factors had 12.5k non-zeros against 13.7k.
 fn column_order(
     dim: usize,
     col_ptr: &[usize],
     row_idx: &[usize],
 ) -> Option<(Vec<usize>, Vec<usize>)> {
+    use faer::sparse::linalg::amd;
     let a = SymbolicSparseColMatRef::new_checked(dim, dim, col_ptr, None, row_idx);
     let (mut fwd, mut inv) = (vec![0usize; dim], vec![0usize; dim]);
-    let req = colamd::order_scratch::<usize>(dim, dim, row_idx.len());
+    let req = amd::order_scratch::<usize>(dim, row_idx.len());
     let mut mem = faer::dyn_stack::MemBuffer::try_new(req).ok()?;
     let stack = faer::dyn_stack::MemStack::new(&mut mem);
-    colamd::order(&mut fwd, &mut inv, a, colamd::Control::default(), stack).ok()?;
+    amd::order(&mut fwd, &mut inv, a, amd::Control::default(), stack).ok()?;
     Some((fwd, inv))
 }
 

@@ -77,6 +77,8 @@ pub(crate) struct SparseLu {
     /// Fresh factorisations and refactorisations with the previous pivots.
     pub fresh: usize,
     pub reused: usize,
+    /// Per slot of the pattern, its row's pivot position (for `row_perm_inv`).
+    pos: Vec<usize>,
     /// A dense column, zero between uses.
     work: Vec<f64>,
     res: Vec<f64>,
@@ -101,14 +103,23 @@ impl SparseLu {
             valid: false,
             fresh: 0,
             reused: 0,
+            pos: Vec::new(),
             work: vec![0.0; n],
             res: vec![0.0; n],
         };
         if let Some(pv) = start {
             (lu.own, lu.row_perm, lu.row_perm_inv) = (pv.own, pv.row_perm, pv.row_perm_inv);
             lu.reusable = true;
+            lu.positions();
         }
         lu
+    }
+
+    /// `pos` for the current row permutation.
+    fn positions(&mut self) {
+        let (p, inv) = (&*self.pattern, &self.row_perm_inv);
+        self.pos.clear();
+        self.pos.extend(p.row_idx.iter().map(|&r| inv[r]));
     }
 
     /// The pivots of the last factorisation, if it succeeded.
@@ -150,6 +161,7 @@ impl SparseLu {
         }
         self.fresh += 1;
         self.reusable = self.factor_fresh();
+        self.positions();
         self.valid = self.reusable
             && (0..self.dim()).all(|j| {
                 let d = self.own.u_val[self.own.u_ptr[j + 1] - 1];
@@ -202,7 +214,7 @@ impl SparseLu {
             for j in 0..p.dim() {
                 let c = p.order[j];
                 for k in p.col_ptr[c]..p.col_ptr[c + 1] {
-                    x[self.row_perm_inv[p.row_idx[k]]] = self.a[k];
+                    x[self.pos[k]] = self.a[k];
                 }
                 let (us, ud) = (f.u_ptr[j], f.u_ptr[j + 1] - 1);
                 for t in us..ud {
@@ -367,7 +379,9 @@ mod tests {
 
     /// On random matrices with the KKT pattern of one and of three coupled
     /// corners (47 and 141 unknowns), the sparse LU's solutions agree with the
-    /// dense LU's to 1e-12 relative and satisfy the system; its norms,
+    /// dense LU's to 1e-12 relative times the condition over 1e4 (the random
+    /// saddle points reach condition numbers of 1e4-1e5, and the two LUs
+    /// pivot in different orders) and satisfy the system; its norms,
     /// distance and condition estimate agree too.
     #[test]
     fn sparse_lu_solves_kkt_matrices_as_the_dense_lu() {
@@ -381,9 +395,15 @@ mod tests {
             let b: Vec<f64> = (0..dim).map(|i| (i as f64 * 0.37).sin()).collect();
             let (mut x, mut y) = (b.clone(), b.clone());
             assert!(d.solve(&mut x) && s.solve(&mut y));
+            let cond = 1.0 / d.reciprocal_condition();
+            assert!(cond < 1e6, "{cond}");
+            let tol = 1e-12 * (cond / 1e4).max(1.0);
             let scale = x.iter().fold(0.0f64, |m, u| m.max(u.abs()));
             for (u, w) in x.iter().zip(&y) {
-                assert!((u - w).abs() <= 1e-12 * scale, "{u} {w} (N = {n})");
+                assert!(
+                    (u - w).abs() <= tol * scale,
+                    "{u} {w} (N = {n}, condition {cond:.1e})"
+                );
             }
             assert!(s.satisfies(&v, &y, &b));
             let mut wrong = y.clone();
@@ -406,7 +426,7 @@ mod tests {
             assert!(d.solve(&mut x) && s.solve(&mut y) && s.satisfies(&v2, &y, &b));
             let scale = x.iter().fold(0.0f64, |m, u| m.max(u.abs()));
             for (u, w) in x.iter().zip(&y) {
-                assert!((u - w).abs() <= 1e-12 * scale, "{u} {w} (N = {n}, reused)");
+                assert!((u - w).abs() <= tol * scale, "{u} {w} (N = {n}, reused)");
             }
         }
     }
