@@ -210,7 +210,7 @@ impl SparseLu {
     /// threshold or is zero or not finite.
     fn refactor(&mut self) -> bool {
         let (p, f, x) = (&*self.pattern, &mut self.own, &mut self.work);
-        let ok = 'cols: {
+        'cols: {
             for j in 0..p.dim() {
                 let c = p.order[j];
                 for k in p.col_ptr[c]..p.col_ptr[c + 1] {
@@ -246,8 +246,7 @@ impl SparseLu {
                 }
             }
             true
-        };
-        ok
+        }
     }
 
     /// Solves `A x = b` in place; false if there is no factorisation or the

@@ -92,6 +92,9 @@ pub(crate) fn seed_pivots(p: &super::Problem) {
 
 /// The factorisation of a [`NewtonMatrix`], in the storage of the last
 /// matrix factorised.
+// One per solver, built once and never moved in a loop: the size of the
+// variants does not matter.
+#[allow(clippy::large_enum_variant)]
 pub(crate) enum Factorisation {
     Dense(Lu),
     Sparse(SparseLu),
