@@ -1,7 +1,8 @@
 //! Speed of the statics engine on the McPherson benchmark (`docs/performance.md`):
 //! the 13-case thesis table 5-1 from a warm start and from design, the 57-step
 //! bump sweep (also with strut friction), and scaling with a synthetic model of N McPherson corners on one
-//! ground; the 500-case random load path of issue 12 and the cost of its
+//! ground, uncoupled and coupled in a chain (one mechanism: the sparse
+//! solver's case); the 500-case random load path of issue 12 and the cost of its
 //! `solve --format json` document. Run with `cargo bench --bench statics`.
 
 use axle::model::{Channel, LoadSet, LoadSetId, LoadTarget, Model, PartId, WheelId};
@@ -57,6 +58,19 @@ fn main() {
         let steps: usize = warm.iter().map(|e| e.iterations).sum();
         let lus: usize = warm.iter().map(|e| e.factorizations).sum();
         println!("corners N = {n}: {steps} Newton steps, {lus} factorisations (warm set)");
+    }
+    for n in [1, 2, 4, 8] {
+        let (m, set) = coupled_corners(n);
+        let p = Problem::new(&m).expect("problem");
+        let start = solve_path(&p, set)
+            .expect("solves")
+            .pop()
+            .expect("cases")
+            .state;
+        let warm = solve_path_from(&p, set, &start).expect("solves");
+        let steps: usize = warm.iter().map(|e| e.iterations).sum();
+        let lus: usize = warm.iter().map(|e| e.factorizations).sum();
+        println!("coupled corners N = {n}: {steps} Newton steps, {lus} factorisations (warm set)");
     }
     // The random path's work, and a digest of every result (bit for bit).
     let (m, set) = random_path(500);
@@ -158,6 +172,32 @@ fn corners(n: usize) -> (Model, LoadSetId) {
     (m, LoadSetId(0))
 }
 
+/// [`corners`] with corner `k`'s front arm held to corner `k + 1`'s by a soft
+/// bushing (100 N/mm, 1e5 N·mm/rad): one mechanism of `30 N` coordinates and
+/// `17 N` multipliers whose Newton matrix does not split into blocks.
+fn coupled_corners(n: usize) -> (Model, LoadSetId) {
+    use axle::model::{AxisLaw, AxisLaws, MarkerId};
+    let (mut m, set) = corners(n);
+    let per = m.markers.len() / n;
+    let arm = m.part_named("front_arm").expect("part");
+    let b = m.markers[..per]
+        .iter()
+        .position(|mk| mk.part == arm && mk.name == "B")
+        .expect("front_arm.B");
+    let soft = |k: f64| AxisLaws::from_three([0; 3].map(|_| AxisLaw::linear(k)), false);
+    let template = m.bushings[0].clone();
+    for k in 0..n.saturating_sub(1) {
+        let mut c = template.clone();
+        c.name = format!("link_{k}");
+        c.i = MarkerId((k * per + b) as u32);
+        c.j = MarkerId(((k + 1) * per + b) as u32);
+        c.translational = soft(100.0);
+        c.rotational = soft(1e5);
+        m.bushings.push(c);
+    }
+    (m, set)
+}
+
 /// The 13 cases of table 5-1, starting from the last case's equilibrium (the
 /// situation of an identification loop re-solving the same set).
 #[divan::bench]
@@ -208,6 +248,19 @@ fn bump_sweep_with_friction(b: Bencher) {
 #[divan::bench(args = [1, 2, 4, 8])]
 fn corners_table_5_1_warm(b: Bencher, n: usize) {
     let (m, set) = corners(n);
+    let p = Problem::new(&m).expect("problem");
+    let start = solve_path(&p, set)
+        .expect("solves")
+        .pop()
+        .expect("cases")
+        .state;
+    b.bench_local(|| solve_path_from(&p, set, &start).expect("solves"));
+}
+
+/// Table 5-1 at every corner of the coupled N-corner model, warm start.
+#[divan::bench(args = [1, 2, 4, 8])]
+fn coupled_corners_table_5_1_warm(b: Bencher, n: usize) {
+    let (m, set) = coupled_corners(n);
     let p = Problem::new(&m).expect("problem");
     let start = solve_path(&p, set)
         .expect("solves")

@@ -9,10 +9,10 @@ use super::coords::{MarkerKin, State};
 use super::error::StaticsError;
 use super::forces::{for_each_element, point_load};
 use super::newton::Homotopy;
+use super::tangent::NewtonMatrix;
 use super::wrench::Wrench;
 use crate::geom::Vec3;
 use crate::model::{JointId, PointLoad};
-use faer::Mat;
 use nalgebra::{DMatrix, DVector};
 /// The scaled residual and its derivative at one state.
 pub(crate) struct System {
@@ -41,8 +41,9 @@ pub(crate) struct Workspace {
     /// Force and torque of each kept equation's unit reaction (its wrench's
     /// `g` and `m`, unscaled): times λ, the joint reactions at the state.
     pub unit_reaction: Vec<(Vec3, Vec3)>,
-    /// `[S K S, J^T; J, 0]`, filled when the tangent is asked for.
-    pub a: Mat<f64>,
+    /// `[S K S, J^T; J, 0]`, filled when the tangent is asked for: dense, or
+    /// in the problem's sparsity pattern for a large model.
+    pub a: NewtonMatrix,
     /// Largest element force (force plus moment over the length) at the state, N.
     pub element_scale: f64,
     /// Largest applied load (force plus moment over the length) evaluated, N.
@@ -52,14 +53,24 @@ pub(crate) struct Workspace {
 }
 
 impl Workspace {
+    /// Buffers with the Newton matrix in the storage chosen for `p`'s size.
     pub fn new(p: &Problem) -> Workspace {
+        let (n, m) = (p.layout.n(), p.kept.len());
+        Workspace {
+            a: NewtonMatrix::new(n + m, p.pattern.as_ref()),
+            ..Workspace::dense(p)
+        }
+    }
+
+    /// Buffers with a dense Newton matrix.
+    pub fn dense(p: &Problem) -> Workspace {
         let (n, m) = (p.layout.n(), p.kept.len());
         Workspace {
             r: vec![0.0; n],
             phi: vec![0.0; m],
             row_scale: vec![1.0; m],
             unit_reaction: vec![(Vec3::zeros(), Vec3::zeros()); m],
-            a: Mat::zeros(n + m, n + m),
+            a: NewtonMatrix::dense(n + m),
             element_scale: 0.0,
             load_scale: 0.0,
             scale: (0..n).map(|c| col_scale(c, p.length)).collect(),
@@ -75,6 +86,24 @@ impl Workspace {
         loads: &[PointLoad],
         tangent: bool,
     ) -> Result<(), StaticsError> {
+        if self.scatter(p, st, loads, tangent)? {
+            return Ok(());
+        }
+        // An entry outside the pattern (not expected: the pattern is
+        // structural): the dense storage holds any entry.
+        self.a = NewtonMatrix::dense(self.a.dim());
+        self.scatter(p, st, loads, tangent).map(|_| ())
+    }
+
+    /// [`Self::eval`] in the current storage; false if a derivative fell
+    /// outside the sparsity pattern (the matrix is then incomplete).
+    fn scatter(
+        &mut self,
+        p: &Problem,
+        st: &State,
+        loads: &[PointLoad],
+        tangent: bool,
+    ) -> Result<bool, StaticsError> {
         let n = p.layout.n();
         let l = p.length;
         let Workspace {
@@ -89,22 +118,27 @@ impl Workspace {
         } = self;
         r.iter_mut().for_each(|v| *v = 0.0);
         if tangent {
-            a.as_mut().fill(0.0);
+            a.clear();
         }
         let mut elem = 0.0f64;
+        let mut inside = true;
         fn add(
             w: &Wrench,
             lam: f64,
             r: &mut [f64],
-            a: &mut Mat<f64>,
+            a: &mut NewtonMatrix,
             tangent: bool,
             scale: &[f64],
+            inside: &mut bool,
         ) {
             w.each_force(|i, v| r[i] += lam * v * scale[i]);
-            if tangent {
+            if !tangent {
+                return;
+            }
+            match a {
                 // Column by column: one bounds check per column of a block
                 // (the products in the order of the entry-wise sum before).
-                w.each_tangent(|ro, co, blk| {
+                NewtonMatrix::Dense(a) => w.each_tangent(|ro, co, blk| {
                     for b in 0..3 {
                         let sj = scale[co + b];
                         let col = &mut a.col_as_slice_mut(co + b)[ro..ro + 3];
@@ -114,19 +148,37 @@ impl Workspace {
                             *x += lam * v * si * sj;
                         }
                     }
-                });
+                }),
+                // The same products and sums into the pattern's slots: rows
+                // `ro..ro + 3` are one half of a part's rows, contiguous there.
+                NewtonMatrix::Sparse(pat, vals) => w.each_tangent(|ro, co, blk| {
+                    let Some(slots) = pat.block_slots(ro, co) else {
+                        *inside = false;
+                        return;
+                    };
+                    for (b, &at) in slots.iter().enumerate() {
+                        let sj = scale[co + b];
+                        let rows = blk.column(b);
+                        for (x, (v, si)) in vals[at..at + 3]
+                            .iter_mut()
+                            .zip(rows.iter().zip(&scale[ro..ro + 3]))
+                        {
+                            *x += lam * v * si * sj;
+                        }
+                    }
+                }),
             }
         }
         for_each_element(&p.model, &p.layout, st, |_, w| {
             elem = elem.max(w.g.norm() + w.m.norm() / l);
-            add(w, 1.0, r, a, tangent, scale);
+            add(w, 1.0, r, a, tangent, scale, &mut inside);
         })?;
         *element_scale = elem;
         *load_scale = 0.0;
         for ld in loads {
             if let Some(w) = point_load(&p.model, &p.layout, st, ld) {
                 *load_scale = load_scale.max(w.g.norm() + w.m.norm() / l);
-                add(&w, 1.0, r, a, tangent, scale);
+                add(&w, 1.0, r, a, tangent, scale, &mut inside);
             }
         }
         // A joint's equations are consecutive and share its marker frames.
@@ -163,14 +215,29 @@ impl Workspace {
             phi[idx] = v / s;
             unit_reaction[idx] = (w.g, w.m);
             if tangent {
-                for &(i, g) in &grad[..len] {
-                    a[(n + idx, i)] += g / s;
-                    a[(i, n + idx)] += g / s;
+                match a {
+                    NewtonMatrix::Dense(a) => {
+                        for &(i, g) in &grad[..len] {
+                            a[(n + idx, i)] += g / s;
+                            a[(i, n + idx)] += g / s;
+                        }
+                    }
+                    NewtonMatrix::Sparse(pat, vals) => {
+                        for &(i, g) in &grad[..len] {
+                            match (pat.multiplier_slot(idx, i), pat.slot(i, n + idx)) {
+                                (Some(u), Some(v)) => {
+                                    vals[u] += g / s;
+                                    vals[v] += g / s;
+                                }
+                                _ => inside = false,
+                            }
+                        }
+                    }
                 }
             }
-            add(&w, lam, r, a, tangent, scale);
+            add(&w, lam, r, a, tangent, scale, &mut inside);
         }
-        Ok(())
+        Ok(inside)
     }
 
     /// Applies the homotopy of a sub-step to the residual.
@@ -219,8 +286,7 @@ impl Workspace {
 
     /// The Newton matrix as a nalgebra matrix (for the SVD of error paths).
     pub fn matrix(&self) -> DMatrix<f64> {
-        let nn = self.a.nrows();
-        DMatrix::from_fn(nn, nn, |i, j| self.a[(i, j)])
+        self.a.to_dense()
     }
 }
 
@@ -244,10 +310,11 @@ pub(crate) fn assemble(
     let mut ws = Workspace::new(p);
     ws.eval(p, st, loads, true)?;
     let (n, m) = (p.layout.n(), p.kept.len());
+    let a = ws.matrix();
     Ok(System {
         r: DVector::from_column_slice(&ws.r),
-        k: DMatrix::from_fn(n, n, |i, j| ws.a[(i, j)]),
-        jac: DMatrix::from_fn(m, n, |i, j| ws.a[(n + i, j)]),
+        k: a.view((0, 0), (n, n)).into_owned(),
+        jac: a.view((n, 0), (m, n)).into_owned(),
         phi: DVector::from_column_slice(&ws.phi),
     })
 }

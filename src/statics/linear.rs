@@ -276,30 +276,44 @@ impl Lu {
             return 0.0;
         }
         let a_fro = self.a_fro;
-        // Irregular signs and sizes: no structure of a mechanism lines up with it.
-        let mut y: Vec<f64> = (0..n)
-            .map(|i| {
-                let t = (i as f64 + 1.0) * 0.618_033_988_749_895;
-                (t - t.floor()) - 0.5
-            })
-            .collect();
-        let mut growth = 0.0f64;
-        for _ in 0..2 {
-            let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
-            if norm.is_nan() || norm <= 0.0 {
-                return 0.0;
-            }
-            y.iter_mut().for_each(|v| *v /= norm);
-            if !self.solve(&mut y) {
-                return 0.0;
-            }
-            growth = growth.max(y.iter().map(|v| v * v).sum::<f64>().sqrt());
-        }
-        if growth.is_nan() || growth <= 0.0 || a_fro <= 0.0 {
+        inverse_iteration(n, a_fro, |y| self.solve(y))
+    }
+}
+
+/// `1 / (‖A‖_F · ‖A⁻¹ y‖)` after two inverse iterations with `solve` from a
+/// fixed irregular start: the estimate of [`Lu::reciprocal_condition`] for
+/// any factorisation of an `n`×`n` matrix of Frobenius norm `a_fro`.
+pub(crate) fn inverse_iteration(
+    n: usize,
+    a_fro: f64,
+    mut solve: impl FnMut(&mut [f64]) -> bool,
+) -> f64 {
+    if n == 0 {
+        return 0.0;
+    }
+    // Irregular signs and sizes: no structure of a mechanism lines up with it.
+    let mut y: Vec<f64> = (0..n)
+        .map(|i| {
+            let t = (i as f64 + 1.0) * 0.618_033_988_749_895;
+            (t - t.floor()) - 0.5
+        })
+        .collect();
+    let mut growth = 0.0f64;
+    for _ in 0..2 {
+        let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if norm.is_nan() || norm <= 0.0 {
             return 0.0;
         }
-        1.0 / (a_fro * growth)
+        y.iter_mut().for_each(|v| *v /= norm);
+        if !solve(&mut y) {
+            return 0.0;
+        }
+        growth = growth.max(y.iter().map(|v| v * v).sum::<f64>().sqrt());
     }
+    if growth.is_nan() || growth <= 0.0 || a_fro <= 0.0 {
+        return 0.0;
+    }
+    1.0 / (a_fro * growth)
 }
 
 // The factorisation and substitutions as free functions. (A build with AVX2

@@ -21,8 +21,11 @@ mod linear;
 pub mod mobility;
 pub mod newton;
 pub mod path;
+mod pattern;
 pub mod redundancy;
 pub mod sensitivity;
+mod sparse;
+mod tangent;
 #[cfg(test)]
 mod testkit;
 pub mod wrench;
@@ -56,6 +59,9 @@ pub struct Problem {
     /// Largest distance of a marker from the markers' centroid (mm, at least 1):
     /// the radius that makes rotations comparable with translations.
     pub length: f64,
+    /// The Newton matrix's sparsity pattern, for a model large enough for
+    /// the sparse path ([`tangent::SPARSE_FROM`]).
+    pub(crate) pattern: Option<std::sync::Arc<pattern::Pattern>>,
 }
 
 impl Problem {
@@ -85,14 +91,20 @@ impl Problem {
         let design = State::design(model);
         let sj = scaled_jacobian(model, &layout, &design, &equations, &all, length);
         let ind = independence(&equations, &sj.jac);
-        Problem {
+        let mut p = Problem {
             model: model.clone(),
             layout,
             equations,
             kept: ind.kept,
             redundant: ind.redundant,
             length,
+            pattern: None,
+        };
+        if p.layout.n() + p.kept.len() >= tangent::SPARSE_FROM {
+            p.pattern = pattern::Pattern::new(&p).map(std::sync::Arc::new);
+            tangent::seed_pivots(&p);
         }
+        p
     }
 
     pub fn model(&self) -> &Model {

@@ -14,8 +14,8 @@ use super::Problem;
 use super::assembly::{System, Workspace, col_scale};
 use super::coords::State;
 use super::error::{StaticsError, StaticsErrorKind};
-use super::linear::Lu;
 use super::mobility::describe_motion;
+use super::tangent::Factorisation;
 use crate::model::{ElementId, PointLoad};
 use nalgebra::{DMatrix, DVector};
 
@@ -49,7 +49,7 @@ pub(crate) enum Failure {
 /// factorisation, the step and a trial state.
 pub(crate) struct Solver {
     pub ws: Workspace,
-    pub lu: Lu,
+    pub lu: Factorisation,
     /// Whether `lu` factorises the Newton matrix of a state of the current
     /// Newton run (not of an earlier load step).
     pub factored: bool,
@@ -72,9 +72,10 @@ pub(crate) struct Solver {
 impl Solver {
     pub fn new(p: &Problem, st: &State) -> Solver {
         let (n, m) = (p.layout.n(), p.kept.len());
+        let ws = Workspace::new(p);
         Solver {
-            ws: Workspace::new(p),
-            lu: Lu::with_blocks(n + m, super::blocks::groups(p, st)),
+            lu: Factorisation::for_matrix(&ws.a, || super::blocks::groups(p, st)),
+            ws,
             factored: false,
             predict: false,
             factorizations: 0,

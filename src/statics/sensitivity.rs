@@ -280,7 +280,7 @@ fn lu_solve(sv: &mut Solver, x: &mut DMatrix<f64>) -> bool {
 /// when the refined residual is not at rounding level.
 fn solve_refined(sv: &mut Solver, b: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     let nn = b.nrows();
-    let a = DMatrix::from_fn(nn, nn, |i, j| sv.ws.a[(i, j)]);
+    let a = sv.ws.matrix();
     let mut x = b.clone();
     if !lu_solve(sv, &mut x) {
         return None;

@@ -143,3 +143,103 @@ pub fn random_state(model: &Model, seed: u64) -> State {
     }
     s
 }
+
+/// `n` copies of the McPherson example's corner on its one ground, corner
+/// `k`'s front arm held to corner `k + 1`'s by a soft bushing (100 N/mm,
+/// 1e5 N·mm/rad), with table 5-1 at every wheel (the coupled-corners bench
+/// of `benches/statics.rs`, smaller): one mechanism, no independent blocks.
+pub fn coupled_corners(n: usize) -> (Model, LoadSetId) {
+    let (_, c) = crate::check::check_str(
+        "mcpherson.axle",
+        include_str!("../../examples/mcpherson.axle"),
+    );
+    let base = c.model.expect("the example checks");
+    let set = base.load_set_named("thesis_table_5_1").expect("stdlib set");
+    let ground = base.ground().expect("ground");
+    let mut m = base.clone();
+    let per = base.markers.len();
+    for k in 1..n {
+        let parts: Vec<PartId> = base
+            .parts
+            .iter()
+            .map(|p| {
+                if p.ground {
+                    return ground;
+                }
+                let mut q = p.clone();
+                q.name = format!("{}_{k}", p.name);
+                m.parts.push(q);
+                PartId(m.parts.len() as u32 - 1)
+            })
+            .collect();
+        let off = (k * per) as u32;
+        for mk in &base.markers {
+            let mut c = mk.clone();
+            c.name = format!("{}_{k}", mk.name);
+            c.part = parts[mk.part.index()];
+            m.markers.push(c);
+        }
+        let mid = |id: MarkerId| MarkerId(id.0 + off);
+        for j in &base.joints {
+            let mut c = j.clone();
+            (c.name, c.i, c.j) = (format!("{}_{k}", j.name), mid(j.i), mid(j.j));
+            m.joints.push(c);
+        }
+        for b in &base.bushings {
+            let mut c = b.clone();
+            (c.name, c.i, c.j) = (format!("{}_{k}", b.name), mid(b.i), mid(b.j));
+            m.bushings.push(c);
+        }
+        for s in &base.springs {
+            let mut c = s.clone();
+            (c.name, c.i, c.j) = (format!("{}_{k}", s.name), mid(s.i), mid(s.j));
+            m.springs.push(c);
+        }
+        for w in &base.wheels {
+            let mut c = w.clone();
+            (c.name, c.part, c.centre, c.contact) = (
+                format!("{}_{k}", w.name),
+                parts[w.part.index()],
+                mid(w.centre),
+                mid(w.contact),
+            );
+            m.wheels.push(c);
+        }
+    }
+    let arm = base.part_named("front_arm").expect("part");
+    let b = base
+        .markers
+        .iter()
+        .position(|mk| mk.part == arm && mk.name == "B")
+        .expect("front_arm.B");
+    let soft = |k: f64| AxisLaws::from_three([0; 3].map(|_| AxisLaw::linear(k)), false);
+    for k in 0..n.saturating_sub(1) {
+        let mut c = base.bushings[0].clone();
+        c.name = format!("link_{k}");
+        c.i = MarkerId((k * per + b) as u32);
+        c.j = MarkerId(((k + 1) * per + b) as u32);
+        c.translational = soft(100.0);
+        c.rotational = soft(1e5);
+        m.bushings.push(c);
+    }
+    let src = &base.load_sets[set.index()];
+    let channels: Vec<Channel> = (0..m.wheels.len())
+        .flat_map(|w| {
+            src.channels.iter().map(move |c| Channel {
+                target: LoadTarget::Wheel(WheelId(w as u32)),
+                component: c.component,
+            })
+        })
+        .collect();
+    let mut cases = src.cases.clone();
+    for c in &mut cases {
+        c.values = c.values.repeat(m.wheels.len());
+    }
+    m.load_sets = vec![LoadSet {
+        name: "corners".into(),
+        channels,
+        cases,
+        form: src.form.clone(),
+    }];
+    (m, LoadSetId(0))
+}

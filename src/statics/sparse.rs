@@ -1,0 +1,486 @@
+//! The sparse LU of the scaled Newton matrix in its [`Pattern`]: the contract
+//! of the dense [`super::linear::Lu`] (factor, solve, check a solution,
+//! distance to another matrix, condition estimate) for models too large for
+//! the dense elimination (see [`super::tangent`] for the choice).
+//!
+//! The fill-reducing column order is the pattern's, computed once per
+//! problem. A fresh factorisation is faer's left-looking (Gilbert–Peierls)
+//! simplicial LU with partial pivoting by rows, which is safe for the zero
+//! diagonal block of the multipliers, and whose work follows the non-zeros of
+//! the factors, so that a chain of N coupled corners costs N times one
+//! corner, not N³. Its depth-first searches for each column's structure cost
+//! more than its arithmetic (two thirds of a coupled-corners solve), so the
+//! factors are copied out and the next matrix is refactorised KLU's way:
+//! with the previous pivot sequence and the structure of L and U (the same
+//! for every matrix of the pattern with those pivots), numbers only, as long
+//! as every pivot keeps at least [`PIVOT_THRESHOLD`] of the largest entry
+//! left in its column; otherwise it is factorised afresh with new pivots.
+
+use super::linear::inverse_iteration;
+use super::pattern::Pattern;
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::perm::PermRef;
+use faer::sparse::SparseColMatRef;
+use faer::sparse::linalg::lu::simplicial::{self, SimplicialLu};
+use std::sync::Arc;
+
+/// A reused pivot must be at least this fraction of the largest candidate in
+/// its column (threshold partial pivoting; UMFPACK's default for its
+/// symmetric strategy), which bounds the growth of each elimination step by
+/// `1 / PIVOT_THRESHOLD`; every solution is still checked against the matrix
+/// (`satisfies`). Along table 5-1 on eight coupled corners, 5 of 50
+/// factorisations needed fresh pivots with 0.01 and 1 with 0.001; each fresh
+/// one costs about 20 refactorisations.
+const PIVOT_THRESHOLD: f64 = 0.001;
+
+/// L (unit lower) and U by columns in pivot order, rows as pivot positions:
+/// each column of L starts with its unit diagonal, each column of U ends with
+/// its pivot, and U's other rows are in an order in which the left-looking
+/// updates may run (faer's depth-first order).
+#[derive(Debug, Clone, Default)]
+struct Factors {
+    l_ptr: Vec<usize>,
+    l_idx: Vec<usize>,
+    l_val: Vec<f64>,
+    u_ptr: Vec<usize>,
+    u_idx: Vec<usize>,
+    u_val: Vec<f64>,
+}
+
+/// A pivot sequence and the factors' structure to start refactorising from
+/// (kept in the [`Pattern`], so that every solver of the problem starts
+/// from the same one: a fresh factorisation costs 10-30 refactorisations).
+#[derive(Debug, Clone)]
+pub(crate) struct Pivots {
+    own: Factors,
+    row_perm: Vec<usize>,
+    row_perm_inv: Vec<usize>,
+}
+
+pub(crate) struct SparseLu {
+    pattern: Arc<Pattern>,
+    lu: SimplicialLu<usize, f64>,
+    row_perm: Vec<usize>,
+    row_perm_inv: Vec<usize>,
+    mem: MemBuffer,
+    /// The values factorised (in the pattern's slots).
+    a: Vec<f64>,
+    /// Largest absolute entry and Frobenius norm of the matrix factorised.
+    a_max: f64,
+    a_fro: f64,
+    /// The factors of the last factorisation (refactorised in place).
+    own: Factors,
+    /// Whether `own` holds a structure to refactorise with.
+    reusable: bool,
+    /// Whether `own` holds a factorisation.
+    valid: bool,
+    /// Fresh factorisations and refactorisations with the previous pivots.
+    pub fresh: usize,
+    pub reused: usize,
+    /// Per slot of the pattern, its row's pivot position (for `row_perm_inv`).
+    pos: Vec<usize>,
+    /// A dense column, zero between uses.
+    work: Vec<f64>,
+    res: Vec<f64>,
+}
+
+impl SparseLu {
+    pub fn new(pattern: Arc<Pattern>) -> SparseLu {
+        let n = pattern.dim();
+        let req = simplicial::factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n);
+        let start = pattern.pivots.get().cloned();
+        let mut lu = SparseLu {
+            a: vec![0.0; pattern.nnz()],
+            pattern,
+            lu: SimplicialLu::new(),
+            row_perm: vec![0; n],
+            row_perm_inv: vec![0; n],
+            mem: MemBuffer::new(req),
+            a_max: 0.0,
+            a_fro: 0.0,
+            own: Factors::default(),
+            reusable: false,
+            valid: false,
+            fresh: 0,
+            reused: 0,
+            pos: Vec::new(),
+            work: vec![0.0; n],
+            res: vec![0.0; n],
+        };
+        if let Some(pv) = start {
+            (lu.own, lu.row_perm, lu.row_perm_inv) = (pv.own, pv.row_perm, pv.row_perm_inv);
+            lu.reusable = true;
+            lu.positions();
+        }
+        lu
+    }
+
+    /// `pos` for the current row permutation.
+    fn positions(&mut self) {
+        let (p, inv) = (&*self.pattern, &self.row_perm_inv);
+        self.pos.clear();
+        self.pos.extend(p.row_idx.iter().map(|&r| inv[r]));
+    }
+
+    /// The pivots of the last factorisation, if it succeeded.
+    pub fn pivots(&self) -> Option<Pivots> {
+        self.valid.then(|| Pivots {
+            own: self.own.clone(),
+            row_perm: self.row_perm.clone(),
+            row_perm_inv: self.row_perm_inv.clone(),
+        })
+    }
+
+    pub fn dim(&self) -> usize {
+        self.pattern.dim()
+    }
+
+    pub fn pattern(&self) -> &Arc<Pattern> {
+        &self.pattern
+    }
+
+    /// Factorises the matrix of `values` (in the pattern's slots); false if a
+    /// pivot is zero or not finite.
+    pub fn factor(&mut self, values: &[f64]) -> bool {
+        self.valid = false;
+        if values.len() != self.a.len() {
+            return false;
+        }
+        self.a.copy_from_slice(values);
+        let (mut mx, mut sq) = (0.0f64, 0.0f64);
+        for v in values {
+            let v = v.abs();
+            mx = if v > mx { v } else { mx };
+            sq += v * v;
+        }
+        (self.a_max, self.a_fro) = (mx, sq.sqrt());
+        if self.reusable && self.refactor() {
+            self.reused += 1;
+            self.valid = true;
+            return true;
+        }
+        self.fresh += 1;
+        self.reusable = self.factor_fresh();
+        self.positions();
+        self.valid = self.reusable
+            && (0..self.dim()).all(|j| {
+                let d = self.own.u_val[self.own.u_ptr[j + 1] - 1];
+                d.is_finite() && d != 0.0
+            });
+        self.valid
+    }
+
+    /// faer's factorisation with fresh pivots of `self.a`, copied into `own`.
+    fn factor_fresh(&mut self) -> bool {
+        let n = self.dim();
+        let a = SparseColMatRef::new(self.pattern.symbolic(), &self.a[..]);
+        let col_perm = PermRef::new_checked(&self.pattern.order, &self.pattern.order_inv, n);
+        let stack = MemStack::new(&mut self.mem);
+        if simplicial::factorize_simplicial_numeric_lu(
+            &mut self.row_perm,
+            &mut self.row_perm_inv,
+            &mut self.lu,
+            a,
+            col_perm,
+            stack,
+        )
+        .is_err()
+        {
+            return false;
+        }
+        let (l, u) = (self.lu.l_factor_unsorted(), self.lu.u_factor_unsorted());
+        let f = &mut self.own;
+        f.l_ptr.clone_from(&l.symbolic().col_ptr().to_vec());
+        f.l_idx.clone_from(&l.symbolic().row_idx().to_vec());
+        f.l_val.clone_from(&l.val().to_vec());
+        f.u_ptr.clone_from(&u.symbolic().col_ptr().to_vec());
+        f.u_idx.clone_from(&u.symbolic().row_idx().to_vec());
+        f.u_val.clone_from(&u.val().to_vec());
+        // The structure assumed by `refactor` and `substitute`.
+        (0..n).all(|j| {
+            f.l_ptr[j] < f.l_ptr[j + 1]
+                && f.l_idx[f.l_ptr[j]] == j
+                && f.u_ptr[j] < f.u_ptr[j + 1]
+                && f.u_idx[f.u_ptr[j + 1] - 1] == j
+        })
+    }
+
+    /// Left-looking LU of `self.a` with the pivots and structure of `own`;
+    /// false (and `own` to be factorised afresh) if a pivot fails the
+    /// threshold or is zero or not finite.
+    fn refactor(&mut self) -> bool {
+        let (p, f, x) = (&*self.pattern, &mut self.own, &mut self.work);
+        'cols: {
+            for j in 0..p.dim() {
+                let c = p.order[j];
+                for k in p.col_ptr[c]..p.col_ptr[c + 1] {
+                    x[self.pos[k]] = self.a[k];
+                }
+                let (us, ud) = (f.u_ptr[j], f.u_ptr[j + 1] - 1);
+                for t in us..ud {
+                    let i = f.u_idx[t];
+                    let ui = x[i];
+                    x[i] = 0.0;
+                    f.u_val[t] = ui;
+                    if ui != 0.0 {
+                        for s in f.l_ptr[i] + 1..f.l_ptr[i + 1] {
+                            x[f.l_idx[s]] -= f.l_val[s] * ui;
+                        }
+                    }
+                }
+                let (ls, le) = (f.l_ptr[j] + 1, f.l_ptr[j + 1]);
+                let piv = x[j];
+                x[j] = 0.0;
+                let big = f.l_idx[ls..le]
+                    .iter()
+                    .fold(0.0f64, |m, &i| m.max(x[i].abs()));
+                if !(piv.is_finite() && piv != 0.0 && piv.abs() >= PIVOT_THRESHOLD * big) {
+                    f.l_idx[ls..le].iter().for_each(|&i| x[i] = 0.0);
+                    break 'cols false;
+                }
+                f.u_val[ud] = piv;
+                for s in ls..le {
+                    let i = f.l_idx[s];
+                    f.l_val[s] = x[i] / piv;
+                    x[i] = 0.0;
+                }
+            }
+            true
+        }
+    }
+
+    /// Solves `A x = b` in place; false if there is no factorisation or the
+    /// result is not finite.
+    pub fn solve(&mut self, b: &mut [f64]) -> bool {
+        let n = self.dim();
+        if !self.valid || b.len() != n {
+            return false;
+        }
+        // P A Q = L U: y = P b, then L U z = y, then x = Q z.
+        let (f, y, p) = (&self.own, &mut self.work, &*self.pattern);
+        for (pos, &r) in self.row_perm.iter().enumerate() {
+            y[pos] = b[r];
+        }
+        for j in 0..n {
+            let yj = y[j];
+            if yj != 0.0 {
+                for s in f.l_ptr[j] + 1..f.l_ptr[j + 1] {
+                    y[f.l_idx[s]] -= f.l_val[s] * yj;
+                }
+            }
+        }
+        for j in (0..n).rev() {
+            let d = f.u_ptr[j + 1] - 1;
+            y[j] /= f.u_val[d];
+            let yj = y[j];
+            if yj != 0.0 {
+                for t in f.u_ptr[j]..d {
+                    y[f.u_idx[t]] -= f.u_val[t] * yj;
+                }
+            }
+        }
+        for (j, &c) in p.order.iter().enumerate() {
+            b[c] = y[j];
+            y[j] = 0.0;
+        }
+        b.iter().all(|v| v.is_finite())
+    }
+
+    /// `A x - b` into `self.res` for the matrix of `values`.
+    fn residual(&mut self, values: &[f64], x: &[f64], b: &[f64]) {
+        let p = &self.pattern;
+        self.res.iter_mut().zip(b).for_each(|(r, v)| *r = -v);
+        for (j, xj) in x.iter().enumerate() {
+            let range = p.col_ptr[j]..p.col_ptr[j + 1];
+            for (&i, aij) in p.row_idx[range.clone()].iter().zip(&values[range]) {
+                self.res[i] += aij * xj;
+            }
+        }
+    }
+
+    /// Whether `x` solves `A x = b` to a residual of `1e-8` of the sizes
+    /// involved (as [`super::linear::Lu::satisfies`]).
+    pub fn satisfies(&mut self, values: &[f64], x: &[f64], b: &[f64]) -> bool {
+        if values.len() != self.a.len() || x.len() != self.dim() || b.len() != self.dim() {
+            return false;
+        }
+        let x_max = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let b_max = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        self.residual(values, x, b);
+        let r = self.res.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        r <= 1e-8 * (b_max + self.a_max * x_max)
+    }
+
+    /// `‖B - A‖_F / ‖A‖_F` for the matrix `A` last factorised.
+    pub fn distance_to(&self, values: &[f64]) -> f64 {
+        if !self.valid || values.len() != self.a.len() {
+            return f64::INFINITY;
+        }
+        let d: f64 = self
+            .a
+            .iter()
+            .zip(values)
+            .map(|(x, y)| (x - y) * (x - y))
+            .sum();
+        d.sqrt() / self.a_fro
+    }
+
+    /// An estimate of `σ_min / σ_max` (as [`super::linear::Lu::reciprocal_condition`]).
+    pub fn reciprocal_condition(&mut self) -> f64 {
+        if !self.valid {
+            return 0.0;
+        }
+        let (n, a_fro) = (self.dim(), self.a_fro);
+        inverse_iteration(n, a_fro, |y| self.solve(y))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::statics::Problem;
+    use crate::statics::linear::Lu;
+    use crate::statics::path::solve_path;
+    use crate::statics::tangent::SPARSE_FROM;
+    use crate::statics::testkit::{Lcg, coupled_corners};
+
+    /// The pattern of the coupled model of `n` corners, whatever its size.
+    fn pattern(n: usize) -> (Problem, Arc<Pattern>) {
+        let (m, _) = coupled_corners(n);
+        let p = Problem::new(&m).expect("problem");
+        let pat = Arc::new(Pattern::new(&p).expect("pattern"));
+        (p, pat)
+    }
+
+    /// Random values in the pattern's slots, the diagonal of `K` (the first
+    /// `n` unknowns) dominant enough to be regular, the multipliers' block
+    /// zero (a KKT matrix).
+    fn values(pat: &Pattern, n: usize, seed: u64) -> Vec<f64> {
+        let mut rng = Lcg::new(seed);
+        let mut v: Vec<f64> = (0..pat.nnz()).map(|_| rng.next()).collect();
+        for j in 0..n {
+            if let Some(s) = pat.slot(j, j) {
+                v[s] += 4.0;
+            }
+        }
+        v
+    }
+
+    fn dense(pat: &Pattern, v: &[f64]) -> faer::Mat<f64> {
+        let mut a = faer::Mat::zeros(pat.dim(), pat.dim());
+        for j in 0..pat.dim() {
+            for k in pat.col_ptr[j]..pat.col_ptr[j + 1] {
+                a[(pat.row_idx[k], j)] = v[k];
+            }
+        }
+        a
+    }
+
+    /// On random matrices with the KKT pattern of one and of three coupled
+    /// corners (47 and 141 unknowns), the sparse LU's solutions agree with the
+    /// dense LU's to 1e-12 relative times the condition over 1e4 (the random
+    /// saddle points reach condition numbers of 1e4-1e5, and the two LUs
+    /// pivot in different orders) and satisfy the system; its norms,
+    /// distance and condition estimate agree too.
+    #[test]
+    fn sparse_lu_solves_kkt_matrices_as_the_dense_lu() {
+        for (n, seed) in [(1, 5), (3, 9), (3, 10)] {
+            let (p, pat) = pattern(n);
+            let v = values(&pat, p.layout.n(), seed);
+            let a = dense(&pat, &v);
+            let dim = pat.dim();
+            let (mut d, mut s) = (Lu::new(dim), SparseLu::new(pat.clone()));
+            assert!(d.factor(&a) && s.factor(&v));
+            let b: Vec<f64> = (0..dim).map(|i| (i as f64 * 0.37).sin()).collect();
+            let (mut x, mut y) = (b.clone(), b.clone());
+            assert!(d.solve(&mut x) && s.solve(&mut y));
+            let cond = 1.0 / d.reciprocal_condition();
+            assert!(cond < 1e6, "{cond}");
+            let tol = 1e-12 * (cond / 1e4).max(1.0);
+            let scale = x.iter().fold(0.0f64, |m, u| m.max(u.abs()));
+            for (u, w) in x.iter().zip(&y) {
+                assert!(
+                    (u - w).abs() <= tol * scale,
+                    "{u} {w} (N = {n}, condition {cond:.1e})"
+                );
+            }
+            assert!(s.satisfies(&v, &y, &b));
+            let mut wrong = y.clone();
+            wrong[dim - 1] += 1e-3 * scale;
+            assert!(!s.satisfies(&v, &wrong, &b));
+            let mut moved = v.clone();
+            moved[0] += 0.25;
+            let mut am = a.clone();
+            am[(pat.row_idx[0], 0)] += 0.25;
+            assert!((d.distance_to(&am) - s.distance_to(&moved)).abs() < 1e-12);
+            let (rd, rs) = (d.reciprocal_condition(), s.reciprocal_condition());
+            assert!((rd - rs).abs() < 1e-9 * rd, "{rd} {rs}");
+            // A nearby matrix is refactorised with the same pivots, and
+            // solved as accurately.
+            let mut rng = Lcg::new(seed + 100);
+            let v2: Vec<f64> = v.iter().map(|x| x * (1.0 + 0.05 * rng.next())).collect();
+            assert!(d.factor(&dense(&pat, &v2)) && s.factor(&v2));
+            assert_eq!((s.fresh, s.reused), (1, 1));
+            let (mut x, mut y) = (b.clone(), b.clone());
+            assert!(d.solve(&mut x) && s.solve(&mut y) && s.satisfies(&v2, &y, &b));
+            let scale = x.iter().fold(0.0f64, |m, u| m.max(u.abs()));
+            for (u, w) in x.iter().zip(&y) {
+                assert!((u - w).abs() <= tol * scale, "{u} {w} (N = {n}, reused)");
+            }
+        }
+    }
+
+    /// Two constraint rows made equal (a redundant joint equation): the sparse
+    /// LU reports a failed factorisation or a condition estimate that flags it.
+    #[test]
+    fn sparse_lu_detects_a_singular_kkt_matrix() {
+        let (p, pat) = pattern(3);
+        let n = p.layout.n();
+        let mut v = values(&pat, n, 21);
+        // Multipliers 0 and 1 belong to one joint: the same parts, the same slots.
+        for j in 0..n {
+            if let (Some(a), Some(b)) = (pat.multiplier_slot(0, j), pat.multiplier_slot(1, j)) {
+                v[b] = v[a];
+            }
+        }
+        for i in 0..n {
+            if let (Some(a), Some(b)) = (pat.slot(i, n), pat.slot(i, n + 1)) {
+                v[b] = v[a];
+            }
+        }
+        let mut s = SparseLu::new(pat.clone());
+        let ok = s.factor(&v);
+        assert!(!ok || s.reciprocal_condition() < 1e-12);
+        // A regular matrix of the same pattern is not flagged.
+        assert!(s.factor(&values(&pat, n, 22)) && s.reciprocal_condition() > 1e-8);
+    }
+
+    /// The coupled model of two corners (94 unknowns, the sparse path) solves
+    /// table 5-1 to the equilibria of the dense path, part by part.
+    #[test]
+    fn coupled_corners_solve_by_the_sparse_path_as_by_the_dense_path() {
+        let (m, set) = coupled_corners(2);
+        let sparse = Problem::new(&m).expect("problem");
+        assert!(sparse.layout.n() + sparse.kept.len() >= SPARSE_FROM);
+        assert!(sparse.pattern.is_some(), "the sparse path is chosen");
+        let dense = Problem {
+            pattern: None,
+            ..sparse.clone()
+        };
+        let (es, ed) = (
+            solve_path(&sparse, set).expect("solves"),
+            solve_path(&dense, set).expect("solves"),
+        );
+        for (a, b) in es.iter().zip(&ed) {
+            for part in 0..m.parts.len() {
+                let id = crate::model::PartId(part as u32);
+                if m.parts[part].ground {
+                    continue;
+                }
+                let ((xa, ra), (xb, rb)) = (a.state.part_pose(id), b.state.part_pose(id));
+                assert!((xa - xb).norm() < 1e-9, "{} mm", (xa - xb).norm());
+                assert!((ra - rb).norm() < 1e-12, "{} rad", (ra - rb).norm());
+            }
+        }
+    }
+}

@@ -1,0 +1,170 @@
+//! The scaled Newton matrix in one of two storages, and its factorisation in
+//! the matching one: dense (a zeroed `(n+m)²` matrix and the zero-skipping
+//! [`Lu`]) for small models, where it is fastest, and the structural
+//! [`Pattern`] with the [`SparseLu`] above [`SPARSE_FROM`] unknowns, where
+//! the dense zeroing, copies and `O((n+m)³)` elimination would dominate.
+
+use super::linear::Lu;
+use super::pattern::Pattern;
+use super::sparse::SparseLu;
+use faer::Mat;
+use nalgebra::DMatrix;
+use std::sync::Arc;
+
+/// The size `n + m` from which the sparse path is taken. Measured with the
+/// coupled-corners bench (`docs/performance.md`): the dense path is faster
+/// for one McPherson corner (47) and the sparse one from two coupled corners.
+pub(crate) const SPARSE_FROM: usize = 80;
+
+pub(crate) enum NewtonMatrix {
+    Dense(Mat<f64>),
+    /// The values in the slots of the pattern.
+    Sparse(Arc<Pattern>, Vec<f64>),
+}
+
+impl NewtonMatrix {
+    /// Zeros in the storage chosen for `dim` unknowns and `pattern`.
+    pub fn new(dim: usize, pattern: Option<&Arc<Pattern>>) -> NewtonMatrix {
+        match pattern {
+            Some(p) if p.dim() == dim && dim >= SPARSE_FROM => {
+                NewtonMatrix::Sparse(p.clone(), vec![0.0; p.nnz()])
+            }
+            _ => NewtonMatrix::Dense(Mat::zeros(dim, dim)),
+        }
+    }
+
+    pub fn dense(dim: usize) -> NewtonMatrix {
+        NewtonMatrix::Dense(Mat::zeros(dim, dim))
+    }
+
+    pub fn dim(&self) -> usize {
+        match self {
+            NewtonMatrix::Dense(a) => a.nrows(),
+            NewtonMatrix::Sparse(p, _) => p.dim(),
+        }
+    }
+
+    pub fn clear(&mut self) {
+        match self {
+            NewtonMatrix::Dense(a) => a.as_mut().fill(0.0),
+            NewtonMatrix::Sparse(_, v) => v.iter_mut().for_each(|x| *x = 0.0),
+        }
+    }
+
+    /// The matrix as a dense nalgebra matrix (for the SVD of error paths and
+    /// the sensitivities' refinement).
+    pub fn to_dense(&self) -> DMatrix<f64> {
+        match self {
+            NewtonMatrix::Dense(a) => DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)]),
+            NewtonMatrix::Sparse(p, v) => {
+                let n = p.dim();
+                let mut d = DMatrix::zeros(n, n);
+                for j in 0..n {
+                    for k in p.col_ptr[j]..p.col_ptr[j + 1] {
+                        d[(p.row_idx[k], j)] = v[k];
+                    }
+                }
+                d
+            }
+        }
+    }
+}
+
+/// Factorises the Newton matrix at design (no loads, no multipliers) once,
+/// for the pivots every sparse LU of `p` starts refactorising from: the same
+/// for every solver of the problem, whatever ran before on which thread.
+pub(crate) fn seed_pivots(p: &super::Problem) {
+    let Some(pat) = &p.pattern else { return };
+    let mut ws = super::assembly::Workspace::new(p);
+    let design = super::coords::State::design(&p.model);
+    if ws.eval(p, &design, &[], true).is_err() {
+        return;
+    }
+    if let NewtonMatrix::Sparse(_, v) = &ws.a {
+        let mut lu = SparseLu::new(pat.clone());
+        if lu.factor(v)
+            && let Some(pv) = lu.pivots()
+        {
+            let _ = pat.pivots.set(pv);
+        }
+    }
+}
+
+/// The factorisation of a [`NewtonMatrix`], in the storage of the last
+/// matrix factorised.
+// One per solver, built once and never moved in a loop: the size of the
+// variants does not matter.
+#[allow(clippy::large_enum_variant)]
+pub(crate) enum Factorisation {
+    Dense(Lu),
+    Sparse(SparseLu),
+}
+
+impl Factorisation {
+    /// A factorisation for matrices stored as `a` is; `groups`: the
+    /// independent blocks of [`super::blocks`], used by the dense path.
+    pub fn for_matrix(a: &NewtonMatrix, groups: impl FnOnce() -> Vec<Vec<usize>>) -> Self {
+        match a {
+            NewtonMatrix::Dense(m) => Factorisation::Dense(Lu::with_blocks(m.nrows(), groups())),
+            NewtonMatrix::Sparse(p, _) => Factorisation::Sparse(SparseLu::new(p.clone())),
+        }
+    }
+
+    pub fn dim(&self) -> usize {
+        match self {
+            Factorisation::Dense(lu) => lu.dim(),
+            Factorisation::Sparse(lu) => lu.dim(),
+        }
+    }
+
+    /// Factorises `a`; false if a pivot is zero or not finite. A matrix in
+    /// the other storage (a workspace that fell back to dense) switches this
+    /// factorisation to it.
+    pub fn factor(&mut self, a: &NewtonMatrix) -> bool {
+        match (&mut *self, a) {
+            (Factorisation::Dense(lu), NewtonMatrix::Dense(m)) => lu.factor(m),
+            (Factorisation::Sparse(lu), NewtonMatrix::Sparse(p, v))
+                if Arc::ptr_eq(lu.pattern(), p) =>
+            {
+                lu.factor(v)
+            }
+            _ => {
+                *self = Factorisation::for_matrix(a, || vec![(0..a.dim()).collect()]);
+                self.factor(a)
+            }
+        }
+    }
+
+    pub fn solve(&mut self, b: &mut [f64]) -> bool {
+        match self {
+            Factorisation::Dense(lu) => lu.solve(b),
+            Factorisation::Sparse(lu) => lu.solve(b),
+        }
+    }
+
+    /// Whether `x` solves `a x = b` (`a` the matrix last factorised).
+    pub fn satisfies(&mut self, a: &NewtonMatrix, x: &[f64], b: &[f64]) -> bool {
+        match (self, a) {
+            (Factorisation::Dense(lu), NewtonMatrix::Dense(m)) => lu.satisfies(m, x, b),
+            (Factorisation::Sparse(lu), NewtonMatrix::Sparse(_, v)) => lu.satisfies(v, x, b),
+            _ => false,
+        }
+    }
+
+    /// `‖b - A‖_F / ‖A‖_F` for the matrix `A` last factorised (infinite for
+    /// a matrix in the other storage).
+    pub fn distance_to(&self, b: &NewtonMatrix) -> f64 {
+        match (self, b) {
+            (Factorisation::Dense(lu), NewtonMatrix::Dense(m)) => lu.distance_to(m),
+            (Factorisation::Sparse(lu), NewtonMatrix::Sparse(_, v)) => lu.distance_to(v),
+            _ => f64::INFINITY,
+        }
+    }
+
+    pub fn reciprocal_condition(&mut self) -> f64 {
+        match self {
+            Factorisation::Dense(lu) => lu.reciprocal_condition(),
+            Factorisation::Sparse(lu) => lu.reciprocal_condition(),
+        }
+    }
+}
