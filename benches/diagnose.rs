@@ -40,7 +40,7 @@ fn case() -> (Model, Vec<RigPath>) {
     let rig = ["bump", "lateral", "longitudinal"]
         .iter()
         .enumerate()
-        .map(|(k, name)| {
+        .flat_map(|(k, name)| {
             let set = truth.load_set_named(name).expect("sweep");
             let csv = kc_csv(&truth, set, 0.005, 0.02, 10 + k as u64).expect("solves");
             read(&nominal, FileId(k as u32), name, &csv).expect("reads")

@@ -34,9 +34,10 @@ fn rig(nominal: &Model, truth: &Model, seed: u64) -> Vec<RigPath> {
     ["bump", "lateral", "longitudinal"]
         .iter()
         .enumerate()
-        .map(|(k, name)| {
+        .flat_map(|(k, name)| {
             let set = truth.load_set_named(name).expect("sweep");
             let csv = kc_csv(truth, set, 0.005, 0.02, seed * 10 + k as u64).expect("truth solves");
+            // One wheel: one path per file.
             read(nominal, FileId(k as u32), name, &csv).expect("rig data read")
         })
         .collect()

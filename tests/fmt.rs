@@ -65,10 +65,11 @@ fn every_example_is_a_fixed_point_and_keeps_its_model() {
 
 /// Templates and instances (issue 13) print back in canonical layout: the
 /// body indented one level, comments kept once, arguments `name = value`.
+/// (The link is off the plane of symmetry: a mirrored part on it is E0117.)
 #[test]
 fn templates_and_instances_format_canonically_and_keep_comments() {
-    let messy = "ground chassis {\n    marker o at (0, 0, 0) mm\n}\ntemplate arm( k = 100  N/mm ,len) {\n// the link\npart link {\nmarker o at (0,0,0) mm\n}\n    bushing mount {   // to the chassis\n        i chassis.o\n  j link.o\n        k (k, k, k)\n        kt (1000, 1000, 1000) N*mm/deg\n    }\n}\ninstance left = arm( len = 3 mm )\ninstance right=mirror   arm(k = 200 N/mm, len = 3 mm)\n";
-    let canonical = "ground chassis {\n    marker o at (0, 0, 0) mm\n}\n\ntemplate arm(k = 100 N/mm, len) {\n    // the link\n    part link {\n        marker o at (0, 0, 0) mm\n    }\n\n    bushing mount { // to the chassis\n        i chassis.o\n        j link.o\n        k (k, k, k)\n        kt (1000, 1000, 1000) N*mm/deg\n    }\n}\n\ninstance left = arm(len = 3 mm)\ninstance right = mirror arm(k = 200 N/mm, len = 3 mm)\n";
+    let messy = "ground chassis {\n    marker o at (0, 100, 0) mm\n}\ntemplate arm( k = 100  N/mm ,len) {\n// the link\npart link {\nmarker o at (0,100,0) mm\n}\n    bushing mount {   // to the chassis\n        i chassis.o\n  j link.o\n        k (k, k, k)\n        kt (1000, 1000, 1000) N*mm/deg\n    }\n}\ninstance left = arm( len = 3 mm )\ninstance right=mirror   arm(k = 200 N/mm, len = 3 mm)\n";
+    let canonical = "ground chassis {\n    marker o at (0, 100, 0) mm\n}\n\ntemplate arm(k = 100 N/mm, len) {\n    // the link\n    part link {\n        marker o at (0, 100, 0) mm\n    }\n\n    bushing mount { // to the chassis\n        i chassis.o\n        j link.o\n        k (k, k, k)\n        kt (1000, 1000, 1000) N*mm/deg\n    }\n}\n\ninstance left = arm(len = 3 mm)\ninstance right = mirror arm(k = 200 N/mm, len = 3 mm)\n";
     let once = fmt(messy);
     assert_eq!(once, canonical);
     assert_eq!(fmt(&once), once);

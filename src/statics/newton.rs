@@ -150,11 +150,19 @@ pub(crate) fn newton(
             sv.ws.release(homotopy);
             sv.x.copy_from_slice(&sv.b);
         }
-        let solved = sv.lu.factor(&sv.ws.a)
+        let mut solved = sv.lu.factor(&sv.ws.a)
             && sv.lu.solve(&mut sv.x)
             && sv.lu.satisfies(&sv.ws.a, &sv.x, &sv.b);
         sv.factored = true;
         sv.factorizations += 1;
+        // Pivots reused from an earlier matrix passed their threshold but gave
+        // a solution the residual check refused: pivot afresh before taking
+        // the matrix for singular.
+        if !solved && let Some(ok) = sv.lu.factor_afresh(&sv.ws.a) {
+            sv.factorizations += 1;
+            sv.x.copy_from_slice(&sv.b);
+            solved = ok && sv.lu.solve(&mut sv.x) && sv.lu.satisfies(&sv.ws.a, &sv.x, &sv.b);
+        }
         let biggest = sv.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if (!solved || biggest > 1e3 * p.length)
             && let Some(mut e) = singular_direction(p, &sv.ws.matrix())

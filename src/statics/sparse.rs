@@ -74,6 +74,8 @@ pub(crate) struct SparseLu {
     reusable: bool,
     /// Whether `own` holds a factorisation.
     valid: bool,
+    /// Whether the last factorisation reused earlier pivots.
+    last_reused: bool,
     /// Fresh factorisations and refactorisations with the previous pivots.
     pub fresh: usize,
     pub reused: usize,
@@ -101,6 +103,7 @@ impl SparseLu {
             own: Factors::default(),
             reusable: false,
             valid: false,
+            last_reused: false,
             fresh: 0,
             reused: 0,
             pos: Vec::new(),
@@ -154,7 +157,8 @@ impl SparseLu {
             sq += v * v;
         }
         (self.a_max, self.a_fro) = (mx, sq.sqrt());
-        if self.reusable && self.refactor() {
+        self.last_reused = self.reusable && self.refactor();
+        if self.last_reused {
             self.reused += 1;
             self.valid = true;
             return true;
@@ -168,6 +172,17 @@ impl SparseLu {
                 d.is_finite() && d != 0.0
             });
         self.valid
+    }
+
+    /// Factorises `values` with fresh pivots, if the last factorisation
+    /// reused earlier ones (its pivots passed the threshold, yet its solve
+    /// may fail the residual check); `None`: there is nothing else to try.
+    pub fn factor_afresh(&mut self, values: &[f64]) -> Option<bool> {
+        if !self.last_reused {
+            return None;
+        }
+        self.reusable = false;
+        Some(self.factor(values))
     }
 
     /// faer's factorisation with fresh pivots of `self.a`, copied into `own`.
@@ -426,6 +441,17 @@ mod tests {
             let scale = x.iter().fold(0.0f64, |m, u| m.max(u.abs()));
             for (u, w) in x.iter().zip(&y) {
                 assert!((u - w).abs() <= tol * scale, "{u} {w} (N = {n}, reused)");
+            }
+            // Pivoting afresh (Newton's fallback when a reused factorisation's
+            // solve fails the residual check) gives the same solution; after a
+            // fresh factorisation there is nothing else to try.
+            assert_eq!(s.factor_afresh(&v2), Some(true));
+            assert_eq!((s.fresh, s.reused), (2, 1));
+            assert_eq!(s.factor_afresh(&v2), None);
+            let mut z = b.clone();
+            assert!(s.solve(&mut z) && s.satisfies(&v2, &z, &b));
+            for (u, w) in x.iter().zip(&z) {
+                assert!((u - w).abs() <= tol * scale, "{u} {w} (N = {n}, afresh)");
             }
         }
     }

@@ -135,6 +135,16 @@ impl Factorisation {
         }
     }
 
+    /// Factorises `a` again with fresh pivots when the last factorisation
+    /// reused earlier ones; `None` when there is nothing else to try (the
+    /// dense path always pivots afresh).
+    pub fn factor_afresh(&mut self, a: &NewtonMatrix) -> Option<bool> {
+        match (self, a) {
+            (Factorisation::Sparse(lu), NewtonMatrix::Sparse(_, v)) => lu.factor_afresh(v),
+            _ => None,
+        }
+    }
+
     pub fn solve(&mut self, b: &mut [f64]) -> bool {
         match self {
             Factorisation::Dense(lu) => lu.solve(b),
