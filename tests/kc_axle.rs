@@ -103,7 +103,7 @@ fn metrics(m: &Model, set: &str) -> axle::kc::AxleMetrics {
     let id = m.load_set_named(set).expect("set");
     let eqs = statics::solve_set(m, id).expect("solves");
     let states: Vec<_> = eqs.iter().map(|e| &e.state).collect();
-    let mut all = axle_metrics(m, id, &states);
+    let mut all = axle_metrics(m, &axle::kc::kc_rows(m, id, &states));
     assert_eq!(all.len(), 1, "one wheel pair");
     all.pop().expect("one")
 }

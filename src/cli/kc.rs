@@ -137,7 +137,7 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
     loaded.report(&warning::of_path(model, &names, eqs));
     let states: Vec<_> = eqs.iter().map(|e| &e.state).collect();
     let rows: Vec<KcRow> = kc_rows(model, set, &states);
-    let axles = axle_metrics(model, set, &states);
+    let axles = axle_metrics(model, &rows);
     let comp = eqs
         .first()
         .map_or_else(Vec::new, |e| compliances(&problem, model, e));

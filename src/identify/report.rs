@@ -101,6 +101,7 @@ fn measured_row(model: &Model, data: &Measured, k: usize, w: &Wheel) -> Option<W
             travel_mm: o.wc.z - design.center[2],
             half_track_mm: f64::NAN,
             half_track_change_mm: f64::NAN,
+            contact: [f64::NAN; 3],
         });
     }
     let parts = [model.marker(w.centre).part, model.marker(w.contact).part];

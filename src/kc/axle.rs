@@ -10,9 +10,9 @@
 //! right-handed about x, positive when the body's left side rises relative
 //! to the wheels (the left wheel drops, the right one rises).
 
-use super::wheel::{WheelQuantities, contact_point, wheel_quantities};
+use super::wheel::{KcRow, WheelQuantities, wheel_quantities};
 use crate::geom::Vec3;
-use crate::model::{Component, LoadSetId, LoadTarget, Model, WheelId};
+use crate::model::{Model, WheelId};
 use crate::statics::State;
 
 /// How the two wheels of an axle move along a load path.
@@ -68,26 +68,24 @@ pub struct AxleMetrics {
 /// in declaration order of the left wheels.
 pub fn wheel_pairs(model: &Model) -> Vec<(WheelId, WheelId)> {
     let design = State::design(model);
-    let centre = |w: usize| -> Vec3 {
-        wheel_quantities(model, &design, &model.wheels[w])
-            .center
-            .into()
-    };
-    let n = model.wheels.len();
-    let mut used = vec![false; n];
+    let centres: Vec<Vec3> = model
+        .wheels
+        .iter()
+        .map(|w| wheel_quantities(model, &design, w).center.into())
+        .collect();
+    let mut used = vec![false; centres.len()];
     let mut pairs = Vec::new();
-    for l in 0..n {
-        let cl = centre(l);
+    for (l, cl) in centres.iter().enumerate() {
         if cl.y <= 0.0 {
             continue;
         }
         let mirror = Vec3::new(cl.x, -cl.y, cl.z);
-        let best = (0..n)
-            .filter(|&r| !used[r] && centre(r).y < 0.0)
+        let best = (0..centres.len())
+            .filter(|&r| !used[r] && centres[r].y < 0.0)
             .min_by(|&a, &b| {
-                (centre(a) - mirror)
+                (centres[a] - mirror)
                     .norm()
-                    .total_cmp(&(centre(b) - mirror).norm())
+                    .total_cmp(&(centres[b] - mirror).norm())
             });
         if let Some(r) = best {
             used[r] = true;
@@ -104,32 +102,6 @@ pub fn roll_angle(left: &WheelQuantities, right: &WheelQuantities) -> f64 {
     (right.travel_mm - left.travel_mm)
         .atan2(left.center[1] - right.center[1])
         .to_degrees()
-}
-
-/// The vertical load on a wheel in every case of a set (N).
-fn wheel_fz(model: &Model, set: LoadSetId, wheel: WheelId) -> Vec<f64> {
-    let ls = &model.load_sets[set.index()];
-    ls.cases
-        .iter()
-        .map(|c| {
-            ls.channels
-                .iter()
-                .zip(&c.values)
-                .filter(|(ch, _)| {
-                    ch.component == Component::Fz && target_is(model, ch.target, wheel)
-                })
-                .map(|(_, v)| *v)
-                .sum()
-        })
-        .collect()
-}
-
-fn target_is(model: &Model, t: LoadTarget, wheel: WheelId) -> bool {
-    match t {
-        LoadTarget::Wheel(w) => w == wheel,
-        LoadTarget::DefaultWheel => model.wheels.len() == 1 && wheel.index() == 0,
-        _ => false,
-    }
 }
 
 /// Whether the two wheels' vertical loads move together or against each other
@@ -175,34 +147,33 @@ fn reference(x: &[f64]) -> Option<(usize, usize, usize)> {
     (x[b] != x[a]).then_some((k, a, b))
 }
 
-/// The axle metrics of the solved cases of `set` (`states[k]` the equilibrium
-/// of case k; a path cut short gives the metrics of its solved part), one per
-/// wheel pair whose loads move in parallel or opposed.
-pub fn axle_metrics(model: &Model, set: LoadSetId, states: &[&State]) -> Vec<AxleMetrics> {
-    let Some(ls) = model.load_sets.get(set.index()) else {
+/// The axle metrics of a path's K&C rows ([`super::kc_rows`]: a row per
+/// solved case and wheel, with the roll angle of the wheel's axle), one per
+/// wheel pair whose loads move in parallel or opposed. A path cut short
+/// gives the metrics of its solved part.
+pub fn axle_metrics(model: &Model, rows: &[KcRow]) -> Vec<AxleMetrics> {
+    let nw = model.wheels.len();
+    if nw == 0 || rows.len() % nw != 0 {
         return Vec::new();
-    };
-    let n = states.len().min(ls.cases.len());
+    }
+    let n = rows.len() / nw;
     let mut out = Vec::new();
     for (l, r) in wheel_pairs(model) {
-        let (fl, fr) = (wheel_fz(model, set, l), wheel_fz(model, set, r));
-        let Some(mo) = motion(&fl[..n], &fr[..n]) else {
+        // Rows are case by case, the wheels of a case in declaration order.
+        let of =
+            |w: WheelId| -> Vec<&KcRow> { (0..n).map(|k| &rows[k * nw + w.index()]).collect() };
+        let (rl, rr) = (of(l), of(r));
+        let fz = |rs: &[&KcRow]| -> Vec<f64> { rs.iter().map(|r| r.force[2]).collect() };
+        let (fl, fr) = (fz(&rl), fz(&rr));
+        let Some(mo) = motion(&fl, &fr) else {
             continue;
         };
-        let (wl, wr) = (&model.wheels[l.index()], &model.wheels[r.index()]);
-        let ql: Vec<_> = states[..n]
-            .iter()
-            .map(|s| wheel_quantities(model, s, wl))
+        let (ql, qr): (Vec<WheelQuantities>, Vec<WheelQuantities>) =
+            (0..n).map(|k| (rl[k].quantities, rr[k].quantities)).unzip();
+        let contact = |q: &WheelQuantities| Vec3::from(q.contact);
+        let roll: Vec<f64> = (0..n)
+            .map(|k| rl[k].roll_deg.unwrap_or_else(|| roll_angle(&ql[k], &qr[k])))
             .collect();
-        let qr: Vec<_> = states[..n]
-            .iter()
-            .map(|s| wheel_quantities(model, s, wr))
-            .collect();
-        let (cl, cr): (Vec<Vec3>, Vec<Vec3>) = states[..n]
-            .iter()
-            .map(|s| (contact_point(model, s, wl), contact_point(model, s, wr)))
-            .unzip();
-        let roll: Vec<f64> = (0..n).map(|k| roll_angle(&ql[k], &qr[k])).collect();
         let driver: Vec<f64> = match mo {
             Motion::Parallel => (0..n)
                 .map(|k| 0.5 * (ql[k].travel_mm + qr[k].travel_mm))
@@ -225,20 +196,28 @@ pub fn axle_metrics(model: &Model, set: LoadSetId, states: &[&State]) -> Vec<Axl
             }
         };
         let roll_centre = match mo {
-            Motion::Parallel => roll_centre(cl[k], cl[b] - cl[a], cr[k], cr[b] - cr[a]),
+            Motion::Parallel => roll_centre(
+                contact(&ql[k]),
+                contact(&ql[b]) - contact(&ql[a]),
+                contact(&qr[k]),
+                contact(&qr[b]) - contact(&qr[a]),
+            ),
             Motion::Opposed => None,
         };
         // Mx of the vertical wheel loads about the x axis (contact points), N·mm.
-        let mx = |j: usize| cl[j].y * fl[j] + cr[j].y * fr[j];
+        let mx = |j: usize| ql[j].contact[1] * fl[j] + qr[j].contact[1] * fr[j];
         let roll_stiffness = match mo {
             Motion::Opposed => Some(-(mx(b) - mx(a)) / (roll[b] - roll[a]) / 1000.0),
             Motion::Parallel => None,
         };
         out.push(AxleMetrics {
             motion: mo,
-            step: k + 1,
-            loadcase: ls.cases[k].name.clone(),
-            wheels: [slopes(&ql, &fl, &wl.name), slopes(&qr, &fr, &wr.name)],
+            step: rl[k].step,
+            loadcase: rl[k].loadcase.clone(),
+            wheels: [
+                slopes(&ql, &fl, &rl[k].wheel),
+                slopes(&qr, &fr, &rr[k].wheel),
+            ],
             roll_centre,
             roll_stiffness,
         });

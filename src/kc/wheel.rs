@@ -24,6 +24,10 @@ pub struct WheelQuantities {
     /// Change of `|contact_y|` from design, mm (not part of the solve JSON).
     #[serde(skip)]
     pub half_track_change_mm: f64,
+    /// The contact marker's origin, mm, global (not part of the solve JSON;
+    /// the axle metrics' roll centre and roll moment).
+    #[serde(skip)]
+    pub contact: [f64; 3],
 }
 
 fn centre_axis_contact(model: &Model, state: &State, w: &Wheel) -> (Vec3, Vec3, Vec3) {
@@ -34,11 +38,6 @@ fn centre_axis_contact(model: &Model, state: &State, w: &Wheel) -> (Vec3, Vec3, 
     let centre = xc + rc * c.origin();
     let spin: Vec3 = (rc * c.rotation).column(2).into();
     (centre, spin, xk + rk * k.origin())
-}
-
-/// The wheel's contact marker's origin at `state`, mm, global.
-pub fn contact_point(model: &Model, state: &State, w: &Wheel) -> Vec3 {
-    centre_axis_contact(model, state, w).2
 }
 
 /// The wheel's quantities at `state`, travel and half-track change against design.
@@ -62,6 +61,7 @@ pub fn wheel_quantities(model: &Model, state: &State, w: &Wheel) -> WheelQuantit
         travel_mm: c.z - c0.z,
         half_track_mm: cp.y.abs(),
         half_track_change_mm: cp.y.abs() - cp0.y.abs(),
+        contact: cp.into(),
     }
 }
 

@@ -154,7 +154,7 @@ pub fn axle_table(axles: &[AxleMetrics]) -> String {
             "\naxle {} / {}: {what}, slopes at step {} ({})\n",
             l.wheel, r.wheel, a.step, a.loadcase
         );
-        match a.motion {
+        let cols: &[Col] = match a.motion {
             Motion::Parallel => {
                 out += &match a.roll_centre {
                     Some([y, z]) => format!(
@@ -167,38 +167,30 @@ pub fn axle_table(axles: &[AxleMetrics]) -> String {
                             .into()
                     }
                 };
-                let rows: Vec<Vec<Cell>> = a
-                    .wheels
-                    .iter()
-                    .map(|w| {
-                        vec![
-                            Cell::Text(w.wheel.clone()),
-                            Cell::Num(w.toe),
-                            Cell::Num(w.camber),
-                            Cell::Num(w.rate.unwrap_or(f64::NAN)),
-                        ]
-                    })
-                    .collect();
-                out += &render(&PARALLEL_COLS, &rows, "  ");
+                &PARALLEL_COLS
             }
             Motion::Opposed => {
                 if let Some(k) = a.roll_stiffness {
                     out += &format!("  roll stiffness: {} N*m/deg\n", fixed(k, 1, 0));
                 }
-                let rows: Vec<Vec<Cell>> = a
-                    .wheels
-                    .iter()
-                    .map(|w| {
-                        vec![
-                            Cell::Text(w.wheel.clone()),
-                            Cell::Num(w.toe),
-                            Cell::Num(w.camber),
-                        ]
-                    })
-                    .collect();
-                out += &render(&OPPOSED_COLS, &rows, "  ");
+                &OPPOSED_COLS
             }
-        }
+        };
+        // A wheel rate only for parallel travel (the columns say which).
+        let rows: Vec<Vec<Cell>> = a
+            .wheels
+            .iter()
+            .map(|w| {
+                let mut row = vec![
+                    Cell::Text(w.wheel.clone()),
+                    Cell::Num(w.toe),
+                    Cell::Num(w.camber),
+                ];
+                row.extend(w.rate.map(Cell::Num));
+                row
+            })
+            .collect();
+        out += &render(cols, &rows, "  ");
     }
     out
 }
