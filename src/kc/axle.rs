@@ -153,7 +153,7 @@ fn reference(x: &[f64]) -> Option<(usize, usize, usize)> {
 /// gives the metrics of its solved part.
 pub fn axle_metrics(model: &Model, rows: &[KcRow]) -> Vec<AxleMetrics> {
     let nw = model.wheels.len();
-    if nw == 0 || rows.len() % nw != 0 {
+    if nw == 0 || !rows.len().is_multiple_of(nw) {
         return Vec::new();
     }
     let n = rows.len() / nw;
