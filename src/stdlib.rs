@@ -15,6 +15,10 @@ pub const MODULES: &[(&str, &str)] = &[
         "anti_roll_bar",
         include_str!("../stdlib/anti_roll_bar.axle"),
     ),
+    (
+        "steering_rack",
+        include_str!("../stdlib/steering_rack.axle"),
+    ),
 ];
 
 pub fn module(name: &str) -> Option<&'static str> {

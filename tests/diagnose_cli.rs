@@ -259,8 +259,8 @@ fn an_axle_file_of_both_wheels_names_the_cause_on_its_side() {
     let truth = scratch(
         "axle_truth.axle",
         &axle_text.replace(
-            "instance front_right = mirror mcpherson_corner()",
-            "instance front_right = mirror mcpherson_corner(free_length = 300 mm)",
+            "instance front_right = mirror mcpherson_corner(rack = steering.rack)",
+            "instance front_right = mirror mcpherson_corner(rack = steering.rack, free_length = 300 mm)",
         ),
     );
     let csv = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))

@@ -43,9 +43,14 @@ fn an_instance_expands_to_the_named_parts_and_ground_markers() {
         }
         assert!(m.wheels.iter().any(|w| w.name == format!("{side}.wheel")));
     }
-    // 1 ground + 2 x 5 corner parts + the bar's 2 halves and 2 drop links;
-    // each corner adds its 4 mounts to the ground, the bar its 2.
-    assert_eq!(m.parts.len(), 15);
+    // 1 ground + the rack + 2 x 5 corner parts + the bar's 2 halves and 2
+    // drop links; each corner adds its 3 mounts to the ground and its tie
+    // rod's inner joint L3 to the rack (the part parameter `rack`).
+    assert_eq!(m.parts.len(), 16);
+    let rack = m.part_named("steering.rack").expect("the rack");
+    for side in ["front_left", "front_right"] {
+        assert!(m.marker_named(rack, &format!("{side}.L3")).is_some());
+    }
     let chassis = m.part_named("chassis").expect("ground");
     let b_left = m.marker_named(chassis, "front_left.B").expect("mount");
     let b_right = m.marker_named(chassis, "front_right.B").expect("mount");
@@ -60,7 +65,9 @@ fn an_instance_expands_to_the_named_parts_and_ground_markers() {
     let single = model("examples/mcpherson.axle");
     for mk in &single.markers {
         let part = &single.part(mk.part).name;
-        let (p, name) = if single.part(mk.part).ground {
+        let (p, name) = if single.part(mk.part).ground && mk.name == "L3" {
+            ("steering.rack".to_string(), "front_left.L3".to_string())
+        } else if single.part(mk.part).ground {
             ("chassis".to_string(), format!("front_left.{}", mk.name))
         } else {
             (format!("front_left.{part}"), mk.name.clone())

@@ -114,15 +114,35 @@ pub(crate) fn expand(file: &File, imported: &[Item]) -> Expansion {
             _ => items.push(item.clone()),
         }
     }
-    // Markers instances add to the ground go at the end of the ground's block.
+    // Markers instances add to a part outside them (the ground, a rack
+    // passed as a part parameter) go at the end of that part's block.
     let extensions = std::mem::take(&mut ex.extensions);
-    for (ground, pi) in extensions {
+    let mut missing = BTreeSet::new();
+    for e in extensions {
         let target = items.iter_mut().find_map(|i| match &mut i.kind {
-            ItemKind::Part(p) if p.ground && p.name.name == ground => Some(p),
+            ItemKind::Part(p) if p.name.name == e.target => Some(p),
             _ => None,
         });
-        if let Some(p) = target {
-            p.items.push(pi);
+        match (target, e.origin) {
+            (Some(p), _) => p.items.push(e.item),
+            (None, Some((block, arg, template))) => {
+                if missing.insert((e.target.clone(), arg)) {
+                    x.problems.push(
+                        Diagnostic::error(
+                            "E0116",
+                            format!(
+                                "template `{template}` adds markers to part `{}`, which the model does not have",
+                                e.target
+                            ),
+                        )
+                        .primary(arg, "no part of this name")
+                        .secondary(block, "the markers are added here")
+                        .hint("a part parameter takes the name of a part of the model: a top-level part, the ground, or an instance's part (`steering.rack`)"),
+                    );
+                }
+            }
+            // The ground's absence is reported where the block is expanded.
+            (None, None) => {}
         }
     }
     x.items = items;
@@ -137,16 +157,29 @@ struct Scope {
     /// Params, elements and nested instances.
     names: BTreeMap<String, String>,
     parts: BTreeMap<String, String>,
-    /// The template's `ground` block name and the markers it adds.
-    ground: Option<(String, BTreeMap<String, String>)>,
+    /// Parts outside the instance it adds markers to, by the name the body
+    /// uses: the template's `ground` block (the model's ground) and every
+    /// part parameter (`rack = chassis`): local name → (the part's name in
+    /// the expanded model, the markers it adds → their expanded names).
+    extends: BTreeMap<String, (String, BTreeMap<String, String>)>,
+}
+
+/// Markers an instance adds to a part outside it, kept until every part of
+/// the file is expanded: the target part, the marker, and for a part
+/// parameter the block's and the argument's spans and the template, to
+/// report a target that does not exist.
+struct Extension {
+    target: String,
+    item: PartItem,
+    origin: Option<(Span, Span, String)>,
 }
 
 struct Expander<'a> {
     templates: BTreeMap<&'a str, (&'a TemplateDecl, Span)>,
     ground: Option<String>,
     out: &'a mut Expansion,
-    /// `(ground, marker or landmark)` added by instances.
-    extensions: Vec<(String, PartItem)>,
+    /// Markers and landmarks instances add to parts outside them.
+    extensions: Vec<Extension>,
     /// Expanded instance names → their name's span, for duplicates.
     seen: BTreeMap<String, Span>,
 }
@@ -204,6 +237,7 @@ impl Expander<'_> {
         }
         // Arguments.
         let mut args: BTreeMap<String, Expr> = BTreeMap::new();
+        let mut raw: BTreeMap<&str, &Expr> = BTreeMap::new();
         let mut ok = true;
         for a in &i.args {
             if !t.params.iter().any(|p| p.name.name == a.name.name) {
@@ -236,6 +270,7 @@ impl Expander<'_> {
                 continue;
             }
             args.insert(a.name.name.clone(), rewrite_expr(&a.value, outer));
+            raw.insert(&a.name.name, &a.value);
         }
         for p in &t.params {
             if args.contains_key(&p.name.name) {
@@ -244,6 +279,7 @@ impl Expander<'_> {
             match &p.default {
                 Some(d) => {
                     args.insert(p.name.name.clone(), rewrite_expr(d, &Scope::default()));
+                    raw.insert(&p.name.name, d);
                 }
                 None => {
                     self.out.problems.push(
@@ -262,6 +298,41 @@ impl Expander<'_> {
                 }
             }
         }
+        // Part parameters: a parameter the body uses as a part (a `part P {
+        // ... }` block adding markers to it, or a reference `P.marker`) takes
+        // a part's name, resolved where the instance is written.
+        let mut part_args: BTreeMap<String, String> = BTreeMap::new();
+        for p in t.params.iter().filter(|p| is_part_param(t, &p.name.name)) {
+            let Some(e) = raw.get(p.name.name.as_str()) else {
+                continue;
+            };
+            let ExprKind::Param(id) = &e.kind else {
+                self.out.problems.push(
+                    Diagnostic::error(
+                        "E0118",
+                        format!(
+                            "parameter `{}` of template `{}` is a part: its argument must be a part's name",
+                            p.name.name, t.name.name
+                        ),
+                    )
+                    .primary(e.span, "not a part's name")
+                    .secondary(p.span, "used as a part in the template")
+                    .hint("pass the name of a part: `rack = steering.rack`, or `rack = chassis` for the ground"),
+                );
+                ok = false;
+                continue;
+            };
+            let target = match outer.parts.get(&id.name) {
+                Some(own) => own.clone(),
+                None => match outer.extends.get(&id.name) {
+                    Some((target, _)) => target.clone(),
+                    None => id.name.clone(),
+                },
+            };
+            args.remove(&p.name.name);
+            part_args.insert(p.name.name.clone(), target);
+        }
+        let arg_span = |name: &str| raw.get(name).map(|e| e.span).unwrap_or(i.args_span);
         if !ok {
             return;
         }
@@ -287,15 +358,28 @@ impl Expander<'_> {
         for item in &t.items {
             let q = |n: &Ident| (n.name.clone(), format!("{full}.{}", n.name));
             match &item.kind {
-                ItemKind::Part(p) if p.ground => {
-                    let markers = p.items.iter().map(|pi| q(pi.name())).collect();
-                    scope.ground = Some((p.name.name.clone(), markers));
+                ItemKind::Part(p) if p.ground || part_args.contains_key(&p.name.name) => {
+                    let target = part_args
+                        .get(&p.name.name)
+                        .cloned()
+                        .unwrap_or_else(|| p.name.name.clone());
+                    let entry = scope
+                        .extends
+                        .entry(p.name.name.clone())
+                        .or_insert_with(|| (target, BTreeMap::new()));
+                    entry.1.extend(p.items.iter().map(|pi| q(pi.name())));
                 }
                 ItemKind::Part(p) => scope.parts.extend([q(&p.name)]),
                 ItemKind::Param(p) => scope.names.extend([q(&p.name)]),
                 ItemKind::Element(e) => scope.names.extend([q(&e.name)]),
                 _ => {}
             }
+        }
+        for (local, target) in &part_args {
+            scope
+                .extends
+                .entry(local.clone())
+                .or_insert_with(|| (target.clone(), BTreeMap::new()));
         }
         let mut stack = stack.to_vec();
         stack.push((t.name.name.clone(), i.template.span));
@@ -329,7 +413,30 @@ impl Expander<'_> {
                             let name = pi.name().name.clone();
                             self.out.mirrored_markers.insert((g.clone(), name));
                         }
-                        self.extensions.push((g.clone(), pi));
+                        self.extensions.push(Extension {
+                            target: g.clone(),
+                            item: pi,
+                            origin: None,
+                        });
+                    }
+                }
+                ItemKind::Part(p) if part_args.contains_key(&p.name.name) => {
+                    let target = part_args[&p.name.name].clone();
+                    for pi in &p.items {
+                        let pi = rewrite_part_item(pi, &scope, &full);
+                        if mirrored {
+                            let name = pi.name().name.clone();
+                            self.out.mirrored_markers.insert((target.clone(), name));
+                        }
+                        self.extensions.push(Extension {
+                            target: target.clone(),
+                            item: pi,
+                            origin: Some((
+                                p.name.span,
+                                arg_span(&p.name.name),
+                                t.name.name.clone(),
+                            )),
+                        });
                     }
                 }
                 ItemKind::Part(p) => {
@@ -402,6 +509,20 @@ impl Expander<'_> {
     }
 }
 
+/// Whether template `t` uses its parameter `name` as a part: a `part NAME`
+/// block (markers it adds to that part) or a reference `NAME.marker` in an
+/// element.
+fn is_part_param(t: &TemplateDecl, name: &str) -> bool {
+    t.items.iter().any(|item| match &item.kind {
+        ItemKind::Part(p) => !p.ground && p.name.name == name,
+        ItemKind::Element(e) => e
+            .props
+            .iter()
+            .any(|p| matches!(&p.value, Value::Ref(r) if r.part.name == name)),
+        _ => false,
+    })
+}
+
 fn rewrite_part_item(pi: &PartItem, scope: &Scope, prefix: &str) -> PartItem {
     let name = |n: &Ident| Ident {
         name: if prefix.is_empty() {
@@ -447,15 +568,11 @@ fn rewrite_vector(v: &Vector, scope: &Scope) -> Vector {
 fn rewrite_value(v: &Value, scope: &Scope) -> Value {
     match v {
         Value::Ref(r) => {
-            let own_ground = scope
-                .ground
-                .as_ref()
-                .filter(|(g, _)| *g == r.part.name)
-                .and_then(|(_, ms)| ms.get(&r.marker.name));
             let (part, marker) = if let Some(p) = scope.parts.get(&r.part.name) {
                 (p.clone(), r.marker.name.clone())
-            } else if let Some(m) = own_ground {
-                (r.part.name.clone(), m.clone())
+            } else if let Some((target, ms)) = scope.extends.get(&r.part.name) {
+                let m = ms.get(&r.marker.name).unwrap_or(&r.marker.name);
+                (target.clone(), m.clone())
             } else {
                 (r.part.name.clone(), r.marker.name.clone())
             };

@@ -160,11 +160,19 @@ impl Checker {
     /// [`Self::marker_ref`], with the spans of the two names for the table of
     /// references (a load channel `arm.tip.fx` reports on the whole channel).
     pub(super) fn marker_ref_at(&mut self, r: &MarkerRef, at: (Span, Span)) -> Option<MarkerId> {
-        // `chassis.front_left.B`: a marker an instance added to the ground.
-        if self.model.part_named(&r.part.name).is_none()
-            && let Some((head, rest)) = r.part.name.split_once('.')
-            && self.model.part_named(head).is_some()
-        {
+        // `chassis.front_left.B`, `steering.rack.front_left.L3`: a marker an
+        // instance added to a part outside it (the ground, a part
+        // parameter's part): the longest leading name that is a part.
+        let split = (self.model.part_named(&r.part.name).is_none())
+            .then(|| {
+                r.part
+                    .name
+                    .rmatch_indices('.')
+                    .map(|(k, _)| (&r.part.name[..k], &r.part.name[k + 1..]))
+                    .find(|(head, _)| self.model.part_named(head).is_some())
+            })
+            .flatten();
+        if let Some((head, rest)) = split {
             let r = MarkerRef {
                 part: Ident {
                     name: head.to_string(),

@@ -3,7 +3,7 @@
 use super::input::{emit, load_model, pick_set_reported};
 use super::{Exit, OutFormat};
 use crate::diagnostic::Diagnostic;
-use crate::kc::{KcRow, Motion, axle_metrics, kc_rows};
+use crate::kc::{KcRow, Motion, axle_metrics, driven_rack, kc_rows, rack_travel, steering_metrics};
 use crate::model::{Component, LoadForm, LoadSet, LoadSetId, Model};
 use crate::output::plot::{Sweep, svg};
 use crate::output::warning;
@@ -136,8 +136,21 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
     let names: Vec<String> = ls.cases.iter().map(|c| c.name.clone()).collect();
     loaded.report(&warning::of_path(model, &names, eqs));
     let states: Vec<_> = eqs.iter().map(|e| &e.state).collect();
-    let rows: Vec<KcRow> = kc_rows(model, set, &states);
+    let mut rows: Vec<KcRow> = kc_rows(model, set, &states);
     let axles = axle_metrics(model, &rows);
+    // A path that drives a steering rack: its travel on every row, and the
+    // wheels' steering geometry.
+    let rack = driven_rack(model, set);
+    let steering = rack.and_then(|r| steering_metrics(model, set, r, &states));
+    if let Some(r) = rack {
+        let nw = model.wheels.len();
+        for (k, st) in states.iter().enumerate() {
+            let s = rack_travel(model, st, r);
+            for row in &mut rows[k * nw..(k + 1) * nw] {
+                row.rack_mm = Some(s);
+            }
+        }
+    }
     let comp = eqs
         .first()
         .map_or_else(Vec::new, |e| compliances(&problem, model, e));
@@ -150,7 +163,10 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
     if let Some(path) = &args.plot {
         let title = format!("{}: K&C, {} ({steps})", model.name, ls.name);
         // Opposed travel of an axle is drawn against the roll angle.
-        let kind = if axles.iter().any(|a| a.motion == Motion::Opposed) {
+        // A steering path against the rack's travel.
+        let kind = if rack.is_some() {
+            Sweep::Steer
+        } else if axles.iter().any(|a| a.motion == Motion::Opposed) {
             Sweep::Roll
         } else {
             sweep_kind(ls)
@@ -168,11 +184,14 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
         OutFormat::Table => {
             let head = format!("model {}, K&C along {}: {steps}\n", model.name, ls.name);
             format!(
-                "{head}{}{}{}{}",
+                "{head}{}{}{}{}{}",
                 kc_table::table(&rows),
                 failed.map_or(String::new(), |f| f.line()),
                 compliance_table(&comp),
-                kc_table::axle_table(&axles)
+                kc_table::axle_table(&axles),
+                steering
+                    .as_ref()
+                    .map_or(String::new(), kc_table::steering_table)
             )
         }
         OutFormat::Json => {
@@ -183,6 +202,7 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
                 &rows,
                 &comp,
                 &axles,
+                steering.as_ref(),
                 &iterations,
                 failed,
             )

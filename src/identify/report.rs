@@ -82,6 +82,7 @@ fn row(step: usize, w: &Wheel, load: (Vec3, Vec3), q: WheelQuantities) -> KcRow 
         torque: load.1.into(),
         quantities: q,
         roll_deg: None,
+        rack_mm: None,
     }
 }
 

@@ -125,7 +125,7 @@ fn motion(fl: &[f64], fr: &[f64]) -> Option<Motion> {
 /// times, up and back: the first passage with a neighbour on each side that
 /// x runs through monotonically, else the first passage); the slope is from
 /// those neighbours, or from the step and its one neighbour.
-fn reference(x: &[f64]) -> Option<(usize, usize, usize)> {
+pub(crate) fn reference(x: &[f64]) -> Option<(usize, usize, usize)> {
     let n = x.len();
     let min = x.iter().fold(f64::INFINITY, |m, v| m.min(v.abs()));
     let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));

@@ -83,6 +83,10 @@ pub struct KcRow {
     /// the CSV or JSON rows).
     #[serde(skip)]
     pub roll_deg: Option<f64>,
+    /// The travel of the steering rack the path drives (mm, `kc::steer`),
+    /// set by `axle kc` for a steering path (not part of the CSV or JSON rows).
+    #[serde(skip)]
+    pub rack_mm: Option<f64>,
 }
 
 /// The K&C rows of solved cases of a load set, one per case and wheel (wheels
@@ -110,6 +114,7 @@ pub fn kc_rows(model: &Model, set: LoadSetId, states: &[&State]) -> Vec<KcRow> {
                 torque: t.into(),
                 quantities: wheel_quantities(model, st, w),
                 roll_deg: None,
+                rack_mm: None,
             });
         }
         for &(l, r) in &pairs {

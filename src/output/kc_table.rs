@@ -4,7 +4,7 @@
 
 use super::columns::{Cell, Col, col, render};
 use super::number::{csv as num, fixed, round_json};
-use crate::kc::{AxleMetrics, KcRow, Motion};
+use crate::kc::{AxleMetrics, KcRow, Motion, SteeringMetrics};
 use serde_json::{Value, json};
 
 /// The header of the K&C CSV.
@@ -192,5 +192,41 @@ pub fn axle_table(axles: &[AxleMetrics]) -> String {
             .collect();
         out += &render(cols, &rows, "  ");
     }
+    out
+}
+
+const STEER_COLS: [Col; 6] = [
+    col("wheel", "", 0),
+    col("caster", "deg", 3),
+    col("kingpin incl.", "deg", 3),
+    col("scrub radius", "mm", 2),
+    col("trail", "mm", 2),
+    col("steer/travel", "deg/mm", 5),
+];
+
+/// The steering geometry of a path that drives a rack (`docs/kc.md`).
+pub fn steering_table(s: &SteeringMetrics) -> String {
+    let mut out = format!(
+        "\nsteering by rack `{}`: axis at step {} ({}), rack travel {} mm\n",
+        s.rack,
+        s.step,
+        s.loadcase,
+        fixed(s.travel_mm, 3, 0)
+    );
+    let rows: Vec<Vec<Cell>> = s
+        .wheels
+        .iter()
+        .map(|w| {
+            vec![
+                Cell::Text(w.wheel.clone()),
+                Cell::Num(w.caster_deg),
+                Cell::Num(w.kpi_deg),
+                Cell::Num(w.scrub_mm),
+                Cell::Num(w.trail_mm),
+                Cell::Num(w.steer_per_travel),
+            ]
+        })
+        .collect();
+    out += &render(&STEER_COLS, &rows, "  ");
     out
 }

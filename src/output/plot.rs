@@ -19,6 +19,9 @@ pub enum Sweep {
     /// Opposed travel of an axle's wheels: everything against the body's
     /// roll angle (`KcRow::roll_deg`), with the wheel load as a panel.
     Roll,
+    /// A steering path: everything against the rack's travel
+    /// (`KcRow::rack_mm`).
+    Steer,
 }
 
 /// A panel: title, y label, and the quantity.
@@ -67,6 +70,7 @@ fn panels(sweep: Sweep) -> Vec<Panel> {
     match sweep {
         Sweep::Bump | Sweep::Roll => vec![TOE, CAMBER, TRACK, LOAD],
         Sweep::Force(_) | Sweep::Case => vec![TOE, CAMBER],
+        Sweep::Steer => vec![TOE, CAMBER, TRACK],
     }
 }
 
@@ -77,6 +81,7 @@ fn x_of(sweep: Sweep, r: &KcRow) -> f64 {
         Sweep::Force(c) => r.torque[(c - 3).min(2)],
         Sweep::Case => r.step as f64,
         Sweep::Roll => r.roll_deg.unwrap_or(f64::NAN),
+        Sweep::Steer => r.rack_mm.unwrap_or(f64::NAN),
     }
 }
 
@@ -141,6 +146,7 @@ fn load_of(sweep: Sweep, r: &KcRow) -> f64 {
         Sweep::Case => r.step as f64,
         // Branches by the direction the body rolls.
         Sweep::Roll => r.roll_deg.unwrap_or(0.0),
+        Sweep::Steer => r.rack_mm.unwrap_or(0.0),
     }
 }
 
@@ -181,6 +187,7 @@ pub const BRANCH_LABELS: [&str; 2] = ["load increasing", "load decreasing"];
 fn branch_label(sweep: Sweep, up: bool) -> &'static str {
     match sweep {
         Sweep::Roll => ["roll increasing", "roll decreasing"][usize::from(!up)],
+        Sweep::Steer => ["rack moving left", "rack moving right"][usize::from(!up)],
         _ => BRANCH_LABELS[usize::from(!up)],
     }
 }
@@ -256,6 +263,7 @@ fn draw(title: &str, lines: &[Line], sweep: Sweep, legend: bool) -> Result<Strin
         Sweep::Force(c) => FORCE_LABELS[c.min(5)],
         Sweep::Case => "load case (step)",
         Sweep::Roll => "body roll angle [deg]",
+        Sweep::Steer => "rack travel [mm] (+ toward the left)",
     };
     let cols = 2u32;
     let nrows = panels.len().div_ceil(2) as u32;

@@ -7,7 +7,8 @@
 use super::json::Json;
 use super::report::{CaseReport, FailedCase};
 use crate::kc::axle::WheelSlopes;
-use crate::kc::{AxleMetrics, KcRow, Motion, WheelQuantities};
+use crate::kc::steer::WheelSteer;
+use crate::kc::{AxleMetrics, KcRow, Motion, SteeringMetrics, WheelQuantities};
 use serde_json::Value;
 
 fn wheel(w: &mut Json, q: &WheelQuantities) {
@@ -228,6 +229,7 @@ pub fn kc(
     rows: &[KcRow],
     compliance: &[(String, [[f64; 3]; 3])],
     axles: &[AxleMetrics],
+    steering: Option<&SteeringMetrics>,
     iterations: &[usize],
     failed: Option<&FailedCase>,
 ) -> String {
@@ -266,9 +268,48 @@ pub fn kc(
         kc_row(&mut w, r);
     }
     w.end_array();
+    if let Some(s) = steering {
+        w.key("steering");
+        steering_metrics(&mut w, s, rows);
+    }
     w.key("sweep").str(sweep);
     w.end_object();
     w.finish()
+}
+
+/// The steering geometry of a path that drives a rack (`docs/kc.md`), and
+/// the rack's travel at every step.
+fn steering_metrics(w: &mut Json, s: &SteeringMetrics, rows: &[KcRow]) {
+    w.begin_object();
+    w.key("loadcase").str(&s.loadcase);
+    w.key("rack").str(&s.rack);
+    w.key("rack_travel_mm").begin_array();
+    let mut step = 0;
+    for r in rows {
+        if r.step != step {
+            step = r.step;
+            w.num(r.rack_mm.unwrap_or(f64::NAN));
+        }
+    }
+    w.end_array();
+    w.key("step").int(s.step as u64);
+    w.key("travel_mm").num(s.travel_mm);
+    w.key("wheels").begin_object();
+    let mut sorted: Vec<&WheelSteer> = s.wheels.iter().collect();
+    sorted.sort_by(|x, y| x.wheel.cmp(&y.wheel));
+    for ws in sorted {
+        w.key(&ws.wheel).begin_object();
+        w.key("axis_direction").nums(&ws.axis_direction);
+        w.key("axis_ground_point_mm").nums(&ws.axis_point);
+        w.key("caster_deg").num(ws.caster_deg);
+        w.key("kingpin_inclination_deg").num(ws.kpi_deg);
+        w.key("mechanical_trail_mm").num(ws.trail_mm);
+        w.key("scrub_radius_mm").num(ws.scrub_mm);
+        w.key("steer_deg_per_mm").num(ws.steer_per_travel);
+        w.end_object();
+    }
+    w.end_object();
+    w.end_object();
 }
 
 #[cfg(test)]
@@ -459,7 +500,7 @@ mod tests {
                 v["failed"] = json!(f);
             }
             round_tree(&mut v);
-            let direct = kc(&m.name, &ls.name, &rows, &comp, &[], &iterations, f);
+            let direct = kc(&m.name, &ls.name, &rows, &comp, &[], None, &iterations, f);
             assert_eq!(direct, format!("{v:#}\n"));
         }
     }
