@@ -407,37 +407,12 @@ impl Expander<'_> {
                         );
                         continue;
                     };
-                    for pi in &p.items {
-                        let pi = rewrite_part_item(pi, &scope, &full);
-                        if mirrored {
-                            let name = pi.name().name.clone();
-                            self.out.mirrored_markers.insert((g.clone(), name));
-                        }
-                        self.extensions.push(Extension {
-                            target: g.clone(),
-                            item: pi,
-                            origin: None,
-                        });
-                    }
+                    self.extend(&g, p, &scope, &full, mirrored, None);
                 }
                 ItemKind::Part(p) if part_args.contains_key(&p.name.name) => {
-                    let target = part_args[&p.name.name].clone();
-                    for pi in &p.items {
-                        let pi = rewrite_part_item(pi, &scope, &full);
-                        if mirrored {
-                            let name = pi.name().name.clone();
-                            self.out.mirrored_markers.insert((target.clone(), name));
-                        }
-                        self.extensions.push(Extension {
-                            target: target.clone(),
-                            item: pi,
-                            origin: Some((
-                                p.name.span,
-                                arg_span(&p.name.name),
-                                t.name.name.clone(),
-                            )),
-                        });
-                    }
+                    let origin = (p.name.span, arg_span(&p.name.name), t.name.name.clone());
+                    let target = &part_args[&p.name.name];
+                    self.extend(target, p, &scope, &full, mirrored, Some(origin));
                 }
                 ItemKind::Part(p) => {
                     let name = renamed(&p.name, &scope.parts);
@@ -505,6 +480,34 @@ impl Expander<'_> {
                 // The grammar admits nothing else in a template.
                 _ => {}
             }
+        }
+    }
+}
+
+impl Expander<'_> {
+    /// Records the markers of an instance's block `p` (a `ground` block or
+    /// a part parameter's) for the part `target` outside it, mirrored with
+    /// the instance.
+    fn extend(
+        &mut self,
+        target: &str,
+        p: &PartDecl,
+        scope: &Scope,
+        full: &str,
+        mirrored: bool,
+        origin: Option<(Span, Span, String)>,
+    ) {
+        for pi in &p.items {
+            let pi = rewrite_part_item(pi, scope, full);
+            if mirrored {
+                let name = pi.name().name.clone();
+                self.out.mirrored_markers.insert((target.to_string(), name));
+            }
+            self.extensions.push(Extension {
+                target: target.to_string(),
+                item: pi,
+                origin: origin.clone(),
+            });
         }
     }
 }
