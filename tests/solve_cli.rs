@@ -273,7 +273,13 @@ fn kc_bump_plot_is_svg_with_four_titled_panels() {
         &lat.to_string_lossy(),
     ]);
     let svg = std::fs::read_to_string(&lat).expect("plot written");
-    assert!(svg.contains("lateral force fy [N]") && svg.contains("Camber angle"));
+    // A lateral sweep is a compliance event: against the wheel's own
+    // (outboard) lateral force, its compliance steer under the toe panel.
+    assert!(
+        svg.contains("lateral force at the contact point, outboard + [N]")
+            && svg.contains("Camber angle")
+            && svg.contains("compliance steer left:")
+    );
     // Table 5-1 varies fz, fy and fx: drawn against the case, not one force;
     // and no tick reads `-0`.
     let mixed = out.with_file_name("table_5_1.svg");

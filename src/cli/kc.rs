@@ -3,9 +3,14 @@
 use super::input::{emit, load_model, pick_set_reported};
 use super::{Exit, OutFormat};
 use crate::diagnostic::Diagnostic;
-use crate::kc::{KcRow, Motion, axle_metrics, driven_rack, kc_rows, rack_travel, steering_metrics};
+use crate::kc::{AxleMetrics, ComplianceMetrics, SteeringMetrics};
+use crate::kc::{
+    KcRow, Motion, axle_metrics, compliance_metrics, driven_rack, kc_rows, rack_travel,
+    steering_metrics,
+};
 use crate::model::{Component, LoadForm, LoadSet, LoadSetId, Model};
-use crate::output::plot::{Sweep, svg};
+use crate::output::number::fixed;
+use crate::output::plot::{Note, Quantity, Sweep, annotated_svg};
 use crate::output::warning;
 use crate::output::{columns, kc_table, solve_json};
 use crate::statics::{Equilibrium, Problem, compliance};
@@ -106,6 +111,105 @@ fn compliance_table(c: &[(String, [[f64; 3]; 3])]) -> String {
     out
 }
 
+/// The metrics written under the plots' panels: the slopes of the toe and
+/// camber curves under those panels, the wheel rate and roll stiffness under
+/// the load, the roll centre and the steering geometry under the half-track
+/// change (`docs/kc.md`).
+fn plot_notes(
+    axles: &[AxleMetrics],
+    events: &[ComplianceMetrics],
+    steering: Option<&SteeringMetrics>,
+) -> Vec<Note> {
+    let mut notes = Vec::new();
+    let mut note = |panel, text: String| notes.push(Note { panel, text });
+    let g = |v: f64, d: usize| fixed(v, d, 0);
+    for a in axles {
+        let (steer, camber, unit) = match a.motion {
+            Motion::Parallel => ("bump steer", "bump camber", "deg/mm"),
+            Motion::Opposed => ("roll steer", "roll camber", "deg/deg"),
+        };
+        let d = if a.motion == Motion::Parallel { 5 } else { 4 };
+        for w in &a.wheels {
+            note(
+                Quantity::Toe,
+                format!("{steer} {}: {} {unit}", w.wheel, g(w.toe, d)),
+            );
+            note(
+                Quantity::Camber,
+                format!("{camber} {}: {} {unit}", w.wheel, g(w.camber, d)),
+            );
+            if let Some(k) = w.rate {
+                note(
+                    Quantity::Load,
+                    format!("wheel rate {}: {} N/mm", w.wheel, g(k, 2)),
+                );
+            }
+        }
+        match (a.roll_centre, a.roll_stiffness) {
+            (Some([_, z]), _) => note(
+                Quantity::HalfTrack,
+                format!("roll centre height {} mm", g(z, 1)),
+            ),
+            (None, Some(k)) => note(
+                Quantity::Load,
+                format!("roll stiffness {} N*m/deg", g(k, 1)),
+            ),
+            (None, None) if a.motion == Motion::Parallel => {
+                note(Quantity::HalfTrack, "roll centre at infinity".to_string())
+            }
+            _ => {}
+        }
+    }
+    for e in events {
+        let per = e.input.per();
+        let phase = e.phase.map_or(String::new(), |p| {
+            format!(" ({})", p.name().replace('_', " "))
+        });
+        for w in &e.wheels {
+            note(
+                Quantity::Toe,
+                format!(
+                    "compliance steer {}{phase}: {} deg/{per}",
+                    w.wheel,
+                    g(w.toe, 5)
+                ),
+            );
+            note(
+                Quantity::Camber,
+                format!(
+                    "compliance camber {}{phase}: {} deg/{per}",
+                    w.wheel,
+                    g(w.camber, 5)
+                ),
+            );
+        }
+    }
+    if let Some(s) = steering {
+        for w in &s.wheels {
+            note(
+                Quantity::Toe,
+                format!(
+                    "steer/travel {}: {} deg/mm",
+                    w.wheel,
+                    g(w.steer_per_travel, 5)
+                ),
+            );
+            note(
+                Quantity::HalfTrack,
+                format!(
+                    "{}: caster {} deg, KPI {} deg, scrub {} mm, trail {} mm",
+                    w.wheel,
+                    g(w.caster_deg, 2),
+                    g(w.kpi_deg, 2),
+                    g(w.scrub_mm, 1),
+                    g(w.trail_mm, 1)
+                ),
+            );
+        }
+    }
+    notes
+}
+
 pub fn run(args: &Args) -> Exit {
     match kc(args) {
         Ok(e) | Err(e) => e,
@@ -138,6 +242,7 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
     let states: Vec<_> = eqs.iter().map(|e| &e.state).collect();
     let mut rows: Vec<KcRow> = kc_rows(model, set, &states);
     let axles = axle_metrics(model, &rows);
+    let events = compliance_metrics(model, &rows);
     // A path that drives a steering rack: its travel on every row, and the
     // wheels' steering geometry.
     let rack = driven_rack(model, set);
@@ -164,14 +269,18 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
         let title = format!("{}: K&C, {} ({steps})", model.name, ls.name);
         // Opposed travel of an axle is drawn against the roll angle.
         // A steering path against the rack's travel.
+        // A compliance event against each wheel's own load.
         let kind = if rack.is_some() {
             Sweep::Steer
         } else if axles.iter().any(|a| a.motion == Motion::Opposed) {
             Sweep::Roll
+        } else if let Some(e) = events.first() {
+            Sweep::Compliance(e.input)
         } else {
             sweep_kind(ls)
         };
-        let text = svg(&title, &rows, kind).map_err(|e| {
+        let notes = plot_notes(&axles, &events, steering.as_ref());
+        let text = annotated_svg(&title, &rows, kind, &notes).map_err(|e| {
             eprintln!("error: cannot draw the plots: {e}");
             Exit::Io
         })?;
@@ -184,11 +293,12 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
         OutFormat::Table => {
             let head = format!("model {}, K&C along {}: {steps}\n", model.name, ls.name);
             format!(
-                "{head}{}{}{}{}{}",
+                "{head}{}{}{}{}{}{}",
                 kc_table::table(&rows),
                 failed.map_or(String::new(), |f| f.line()),
                 compliance_table(&comp),
                 kc_table::axle_table(&axles),
+                kc_table::compliance_table(&events),
                 steering
                     .as_ref()
                     .map_or(String::new(), kc_table::steering_table)
@@ -201,8 +311,11 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
                 &ls.name,
                 &rows,
                 &comp,
-                &axles,
-                steering.as_ref(),
+                &solve_json::PathMetrics {
+                    axles: &axles,
+                    events: &events,
+                    steering: steering.as_ref(),
+                },
                 &iterations,
                 failed,
             )

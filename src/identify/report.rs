@@ -80,6 +80,7 @@ fn row(step: usize, w: &Wheel, load: (Vec3, Vec3), q: WheelQuantities) -> KcRow 
         wheel: w.name.clone(),
         force: load.0.into(),
         torque: load.1.into(),
+        centre_force: [0.0; 3],
         quantities: q,
         roll_deg: None,
         rack_mm: None,

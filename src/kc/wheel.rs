@@ -77,6 +77,10 @@ pub struct KcRow {
     pub force: [f64; 3],
     /// `[mx, my, mz]`, N·mm.
     pub torque: [f64; 3],
+    /// The force applied at the wheel centre marker (traction through the
+    /// hub, `kc::compliance`), N, global (not part of the CSV or JSON rows).
+    #[serde(skip)]
+    pub centre_force: [f64; 3],
     pub quantities: WheelQuantities,
     /// The body's roll relative to the wheels at this step (deg, ISO 8855,
     /// `docs/kc.md`) when the wheel is one of an axle's pair (not part of
@@ -101,10 +105,14 @@ pub fn kc_rows(model: &Model, set: LoadSetId, states: &[&State]) -> Vec<KcRow> {
         let loads = model.point_loads(set, k);
         let first = rows.len();
         for w in &model.wheels {
-            let (mut f, mut t) = (Vec3::zeros(), Vec3::zeros());
-            for l in loads.iter().filter(|l| l.marker == w.contact) {
-                f += l.force;
-                t += l.torque;
+            let (mut f, mut t, mut fc) = (Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
+            for l in &loads {
+                if l.marker == w.contact {
+                    f += l.force;
+                    t += l.torque;
+                } else if l.marker == w.centre {
+                    fc += l.force;
+                }
             }
             rows.push(KcRow {
                 step: k + 1,
@@ -112,6 +120,7 @@ pub fn kc_rows(model: &Model, set: LoadSetId, states: &[&State]) -> Vec<KcRow> {
                 wheel: w.name.clone(),
                 force: f.into(),
                 torque: t.into(),
+                centre_force: fc.into(),
                 quantities: wheel_quantities(model, st, w),
                 roll_deg: None,
                 rack_mm: None,

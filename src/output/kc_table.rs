@@ -4,7 +4,7 @@
 
 use super::columns::{Cell, Col, col, render};
 use super::number::{csv as num, fixed, round_json};
-use crate::kc::{AxleMetrics, KcRow, Motion, SteeringMetrics};
+use crate::kc::{AxleMetrics, ComplianceMetrics, Input, KcRow, Motion, SteeringMetrics};
 use serde_json::{Value, json};
 
 /// The header of the K&C CSV.
@@ -228,5 +228,61 @@ pub fn steering_table(s: &SteeringMetrics) -> String {
         })
         .collect();
     out += &render(&STEER_COLS, &rows, "  ");
+    out
+}
+
+/// The compliance events (`docs/kc.md`): one block per wheel or axle pair
+/// loaded, slopes per unit of each wheel's own load (outboard or forward
+/// positive).
+pub fn compliance_table(events: &[ComplianceMetrics]) -> String {
+    let mut out = String::new();
+    for e in events {
+        let phase = match e.phase {
+            Some(p) => format!(", {}", p.name().replace('_', " ")),
+            None => String::new(),
+        };
+        let sign = match e.input {
+            Input::Lateral => "outboard positive",
+            Input::AligningTorque => "turning the front outboard positive",
+            Input::Braking | Input::Traction => "forward positive",
+        };
+        out += &format!(
+            "\ncompliance: {}{phase}, slopes at step {} ({}), per {} of each wheel's load ({sign})\n",
+            e.input.title(),
+            e.step,
+            e.loadcase,
+            e.input.per(),
+        );
+        let per = match e.input {
+            Input::AligningTorque => "deg/N*m",
+            _ => "deg/kN",
+        };
+        let along = match e.input {
+            Input::Lateral => "centre outboard",
+            _ => "centre forward",
+        };
+        let mut cols = vec![
+            col("wheel", "", 0),
+            col("compliance steer", per, 5),
+            col("compliance camber", per, 5),
+        ];
+        if e.input != Input::AligningTorque {
+            cols.push(col(along, "mm/kN", 4));
+        }
+        let rows: Vec<Vec<Cell>> = e
+            .wheels
+            .iter()
+            .map(|w| {
+                let mut row = vec![
+                    Cell::Text(w.wheel.clone()),
+                    Cell::Num(w.toe),
+                    Cell::Num(w.camber),
+                ];
+                row.extend(w.centre.map(Cell::Num));
+                row
+            })
+            .collect();
+        out += &render(&cols, &rows, "  ");
+    }
     out
 }

@@ -4,7 +4,7 @@
 //! and identified curves of `identify --report` overlaid. SVG only (no system
 //! fonts).
 
-use crate::kc::KcRow;
+use crate::kc::{Input, KcRow};
 use plotters::prelude::*;
 
 /// What the panels are plotted against.
@@ -22,31 +22,57 @@ pub enum Sweep {
     /// A steering path: everything against the rack's travel
     /// (`KcRow::rack_mm`).
     Steer,
+    /// A compliance event: each wheel against its own swept load (a
+    /// traction force at the wheel centre included), in the wheel's own
+    /// frame (`kc::Input::own`: lateral force and torque outboard positive).
+    Compliance(Input),
+}
+
+/// The quantity a panel draws, to attach a [`Note`] to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quantity {
+    Toe,
+    Camber,
+    HalfTrack,
+    Load,
+}
+
+/// A line of text under a panel: a metric read off its curves (bump
+/// steer under the toe panel, roll stiffness under the load panel, ...).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Note {
+    pub panel: Quantity,
+    pub text: String,
 }
 
 /// A panel: title, y label, and the quantity.
 struct Panel {
+    quantity: Quantity,
     title: &'static str,
     y_label: &'static str,
     y: fn(&KcRow) -> f64,
 }
 
 const TOE: Panel = Panel {
+    quantity: Quantity::Toe,
     title: "Toe angle",
     y_label: "toe-in [deg]",
     y: |r| r.quantities.toe_deg,
 };
 const CAMBER: Panel = Panel {
+    quantity: Quantity::Camber,
     title: "Camber angle",
     y_label: "camber [deg]",
     y: |r| r.quantities.camber_deg,
 };
 const TRACK: Panel = Panel {
+    quantity: Quantity::HalfTrack,
     title: "Half-track change",
     y_label: "half-track change [mm]",
     y: |r| r.quantities.half_track_change_mm,
 };
 const LOAD: Panel = Panel {
+    quantity: Quantity::Load,
     title: "Wheel load",
     y_label: "vertical load fz [N]",
     y: |r| r.force[2],
@@ -69,7 +95,7 @@ pub fn panel_titles(sweep: Sweep) -> Vec<&'static str> {
 fn panels(sweep: Sweep) -> Vec<Panel> {
     match sweep {
         Sweep::Bump | Sweep::Roll => vec![TOE, CAMBER, TRACK, LOAD],
-        Sweep::Force(_) | Sweep::Case => vec![TOE, CAMBER],
+        Sweep::Force(_) | Sweep::Case | Sweep::Compliance(_) => vec![TOE, CAMBER],
         Sweep::Steer => vec![TOE, CAMBER, TRACK],
     }
 }
@@ -82,6 +108,7 @@ fn x_of(sweep: Sweep, r: &KcRow) -> f64 {
         Sweep::Case => r.step as f64,
         Sweep::Roll => r.roll_deg.unwrap_or(f64::NAN),
         Sweep::Steer => r.rack_mm.unwrap_or(f64::NAN),
+        Sweep::Compliance(i) => i.own(r),
     }
 }
 
@@ -147,6 +174,7 @@ fn load_of(sweep: Sweep, r: &KcRow) -> f64 {
         // Branches by the direction the body rolls.
         Sweep::Roll => r.roll_deg.unwrap_or(0.0),
         Sweep::Steer => r.rack_mm.unwrap_or(0.0),
+        Sweep::Compliance(i) => i.own(r),
     }
 }
 
@@ -197,6 +225,17 @@ fn branch_label(sweep: Sweep, up: bool) -> &'static str {
 /// its colour and legend entry, so that hysteresis (dry friction) shows as
 /// two branches.
 pub fn svg(title: &str, rows: &[KcRow], sweep: Sweep) -> Result<String, String> {
+    annotated_svg(title, rows, sweep, &[])
+}
+
+/// [`svg`] with lines of text under the panels: the metrics of the path
+/// (`axle kc --plot`).
+pub fn annotated_svg(
+    title: &str,
+    rows: &[KcRow],
+    sweep: Sweep,
+    notes: &[Note],
+) -> Result<String, String> {
     let mut wheels: Vec<&str> = Vec::new();
     for r in rows {
         if !wheels.contains(&r.wheel.as_str()) {
@@ -225,7 +264,7 @@ pub fn svg(title: &str, rows: &[KcRow], sweep: Sweep) -> Result<String, String> 
         }
     }
     let legend = lines.iter().filter(|l| l.in_legend).count() > 1;
-    draw(title, &lines, sweep, legend)
+    draw(title, &lines, sweep, legend, notes)
 }
 
 /// The legend labels of [`overlay_svg`], in drawing order.
@@ -253,10 +292,19 @@ pub fn overlay_svg(
             dots: k == 0,
         })
         .collect();
-    draw(title, &lines, sweep, true)
+    draw(title, &lines, sweep, true, &[])
 }
 
-fn draw(title: &str, lines: &[Line], sweep: Sweep, legend: bool) -> Result<String, String> {
+/// Height of a line of notes under a panel, px.
+const NOTE_LINE: u32 = 18;
+
+fn draw(
+    title: &str,
+    lines: &[Line],
+    sweep: Sweep,
+    legend: bool,
+    notes: &[Note],
+) -> Result<String, String> {
     let panels = panels(sweep);
     let x_label = match sweep {
         Sweep::Bump => "wheel travel [mm]",
@@ -264,23 +312,52 @@ fn draw(title: &str, lines: &[Line], sweep: Sweep, legend: bool) -> Result<Strin
         Sweep::Case => "load case (step)",
         Sweep::Roll => "body roll angle [deg]",
         Sweep::Steer => "rack travel [mm] (+ toward the left)",
+        Sweep::Compliance(i) => match i {
+            Input::Lateral => "lateral force at the contact point, outboard + [N]",
+            Input::Braking => "longitudinal force fx at the contact point [N]",
+            Input::Traction => "longitudinal force fx at the wheel centre [N]",
+            Input::AligningTorque => "aligning torque mz, front turning outboard + [N*mm]",
+        },
     };
     let cols = 2u32;
     let nrows = panels.len().div_ceil(2) as u32;
+    // Every panel gets the strip of the panel with the most notes, so the
+    // grid stays even.
+    let strip = panels
+        .iter()
+        .map(|p| notes.iter().filter(|n| n.panel == p.quantity).count() as u32)
+        .max()
+        .unwrap_or(0)
+        * NOTE_LINE
+        + if notes.is_empty() { 0 } else { 8 };
     let all = || lines.iter().flat_map(|l| l.rows.iter().copied());
     let mut out = String::new();
     {
-        let root =
-            SVGBackend::with_string(&mut out, (cols * 460, nrows * 340 + 40)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut out, (cols * 460, nrows * (340 + strip) + 40))
+            .into_drawing_area();
         root.fill(&WHITE).map_err(|e| e.to_string())?;
         let root = root
             .titled(title, ("sans-serif", 22))
             .map_err(|e| e.to_string())?;
         let areas = root.split_evenly((nrows as usize, cols as usize));
         let xr = range(all().map(|r| x_of(sweep, r)));
-        for (panel, area) in panels.iter().zip(areas.iter()) {
+        for (panel, cell) in panels.iter().zip(areas.iter()) {
+            let (area, below) = cell.split_vertically(340);
+            for (k, n) in notes
+                .iter()
+                .filter(|n| n.panel == panel.quantity)
+                .enumerate()
+            {
+                below
+                    .draw(&Text::new(
+                        n.text.as_str(),
+                        (72, 2 + k as i32 * NOTE_LINE as i32),
+                        ("sans-serif", 14).into_font().color(&BLACK),
+                    ))
+                    .map_err(|e| e.to_string())?;
+            }
             let yr = range(all().map(panel.y));
-            let mut chart = ChartBuilder::on(area)
+            let mut chart = ChartBuilder::on(&area)
                 .caption(panel.title, ("sans-serif", 18))
                 .margin(12)
                 .x_label_area_size(40)

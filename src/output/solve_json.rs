@@ -7,8 +7,11 @@
 use super::json::Json;
 use super::report::{CaseReport, FailedCase};
 use crate::kc::axle::WheelSlopes;
+use crate::kc::compliance::WheelCompliance;
 use crate::kc::steer::WheelSteer;
-use crate::kc::{AxleMetrics, KcRow, Motion, SteeringMetrics, WheelQuantities};
+use crate::kc::{
+    AxleMetrics, ComplianceMetrics, Input, KcRow, Motion, SteeringMetrics, WheelQuantities,
+};
 use serde_json::Value;
 
 fn wheel(w: &mut Json, q: &WheelQuantities) {
@@ -221,6 +224,15 @@ fn axle(w: &mut Json, a: &AxleMetrics) {
     w.end_object();
 }
 
+/// The metrics of a K&C path beside its rows (`docs/kc.md`): an axle's
+/// parallel or opposed travel, compliance events, a steering rack's geometry.
+#[derive(Debug, Clone, Default)]
+pub struct PathMetrics<'a> {
+    pub axles: &'a [AxleMetrics],
+    pub events: &'a [ComplianceMetrics],
+    pub steering: Option<&'a SteeringMetrics>,
+}
+
 /// `kc --format json`: the axle metrics (when the path moves a wheel pair), rows, the wheel-centre compliances (mm/kN, sorted by
 /// wheel, whose names are unique), the iterations per step, the failing step.
 pub fn kc(
@@ -228,17 +240,28 @@ pub fn kc(
     sweep: &str,
     rows: &[KcRow],
     compliance: &[(String, [[f64; 3]; 3])],
-    axles: &[AxleMetrics],
-    steering: Option<&SteeringMetrics>,
+    metrics: &PathMetrics,
     iterations: &[usize],
     failed: Option<&FailedCase>,
 ) -> String {
+    let &PathMetrics {
+        axles,
+        events,
+        steering,
+    } = metrics;
     let mut w = Json::new();
     w.begin_object();
     if !axles.is_empty() {
         w.key("axles").begin_array();
         for a in axles {
             axle(&mut w, a);
+        }
+        w.end_array();
+    }
+    if !events.is_empty() {
+        w.key("compliance_events").begin_array();
+        for e in events {
+            compliance_event(&mut w, e);
         }
         w.end_array();
     }
@@ -275,6 +298,37 @@ pub fn kc(
     w.key("sweep").str(sweep);
     w.end_object();
     w.finish()
+}
+
+/// A compliance event (`docs/kc.md`): the input, the phase of an axle's
+/// pair, the reference step and per wheel the slopes per kN (per N·m of
+/// an aligning torque) of the wheel's own load.
+fn compliance_event(w: &mut Json, e: &ComplianceMetrics) {
+    let per = match e.input {
+        Input::AligningTorque => "nm",
+        _ => "kn",
+    };
+    w.begin_object();
+    w.key("input").str(e.input.name());
+    w.key("loadcase").str(&e.loadcase);
+    if let Some(p) = e.phase {
+        w.key("phase").str(p.name());
+    }
+    w.key("step").int(e.step as u64);
+    w.key("wheels").begin_object();
+    let mut sorted: Vec<&WheelCompliance> = e.wheels.iter().collect();
+    sorted.sort_by(|x, y| x.wheel.cmp(&y.wheel));
+    for c in sorted {
+        w.key(&c.wheel).begin_object();
+        w.key(&format!("camber_deg_per_{per}")).num(c.camber);
+        if let Some(d) = c.centre {
+            w.key("centre_mm_per_kn").num(d);
+        }
+        w.key(&format!("toe_deg_per_{per}")).num(c.toe);
+        w.end_object();
+    }
+    w.end_object();
+    w.end_object();
 }
 
 /// The steering geometry of a path that drives a rack (`docs/kc.md`), and
@@ -500,7 +554,15 @@ mod tests {
                 v["failed"] = json!(f);
             }
             round_tree(&mut v);
-            let direct = kc(&m.name, &ls.name, &rows, &comp, &[], None, &iterations, f);
+            let direct = kc(
+                &m.name,
+                &ls.name,
+                &rows,
+                &comp,
+                &PathMetrics::default(),
+                &iterations,
+                f,
+            );
             assert_eq!(direct, format!("{v:#}\n"));
         }
     }

@@ -1,0 +1,268 @@
+//! Compliance events of a K&C rig (`docs/kc.md`, "Compliance events"): a
+//! load path that sweeps one horizontal load at a wheel with its vertical
+//! load held: a lateral force or a braking force at the contact point, a
+//! traction force at the wheel centre, or an aligning torque about the
+//! vertical. Per wheel, the slopes at the step where that load is nearest
+//! zero: compliance steer (toe), compliance camber and the wheel centre's
+//! displacement along the load. An axle's two wheels loaded together are
+//! loaded **in phase** (the same global direction, as in a turn or under
+//! braking) or **opposed**; the slope of each wheel is taken along the path,
+//! so it includes what the other wheel's load does through the rack, the bar
+//! or a twist beam, and the two phases differ by exactly that coupling.
+//!
+//! Each wheel's load is counted in its own frame so that a symmetric axle
+//! gives the same number on both sides: lateral force and aligning torque
+//! positive **outboard** (`s fy`, `s mz`, with `s = +1` for a left wheel and
+//! `-1` for a right one: a positive aligning torque turns the wheel's front
+//! outboard, toward toe-out), longitudinal forces positive forward.
+
+use super::axle::{reference, wheel_pairs};
+use super::wheel::KcRow;
+use crate::model::{Model, WheelId};
+
+/// The load a compliance event sweeps at a wheel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Input {
+    /// `fy` at the contact point (cornering force).
+    Lateral,
+    /// `fx` at the contact point (brake force).
+    Braking,
+    /// `fx` at the wheel centre (drive force through the hub).
+    Traction,
+    /// `mz` at the contact point (the tyre's aligning torque).
+    AligningTorque,
+}
+
+impl Input {
+    pub const ALL: [Input; 4] = [
+        Input::Lateral,
+        Input::Braking,
+        Input::Traction,
+        Input::AligningTorque,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Input::Lateral => "lateral",
+            Input::Braking => "braking",
+            Input::Traction => "traction",
+            Input::AligningTorque => "aligning_torque",
+        }
+    }
+
+    /// The words of the table and plots.
+    pub fn title(self) -> &'static str {
+        match self {
+            Input::Lateral => "lateral force at the contact point",
+            Input::Braking => "longitudinal force at the contact point (braking)",
+            Input::Traction => "longitudinal force at the wheel centre (traction)",
+            Input::AligningTorque => "aligning torque at the contact point",
+        }
+    }
+
+    /// The unit of the load the slopes are per: kN, or N·m for a torque.
+    pub fn per(self) -> &'static str {
+        match self {
+            Input::AligningTorque => "N*m",
+            _ => "kN",
+        }
+    }
+
+    /// The global component of the row's loads the input is (N, or N·mm).
+    pub fn global(self, r: &KcRow) -> f64 {
+        match self {
+            Input::Lateral => r.force[1],
+            Input::Braking => r.force[0],
+            Input::Traction => r.centre_force[0],
+            Input::AligningTorque => r.torque[2],
+        }
+    }
+
+    /// The row's load in its wheel's own frame (N or N·mm): the global
+    /// component, negated on a right wheel for a lateral force or a torque.
+    pub fn own(self, r: &KcRow) -> f64 {
+        let right = r.quantities.center[1] < 0.0;
+        if self.mirrored() && right {
+            -self.global(r)
+        } else {
+            self.global(r)
+        }
+    }
+
+    /// Whether the wheel's own frame flips the global sign on a right wheel
+    /// (lateral and yaw loads do; longitudinal ones do not).
+    fn mirrored(self) -> bool {
+        matches!(self, Input::Lateral | Input::AligningTorque)
+    }
+}
+
+/// A load (N or N·mm) in the slopes' unit (kN or N·m): the same factor.
+const TO_SLOPE_UNIT: f64 = 1e-3;
+
+/// How an axle's two wheels are loaded in an event.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    /// Both loads in the same global direction.
+    InPhase,
+    /// Loads in opposite global directions (both outboard, or both inboard,
+    /// for a lateral force).
+    Opposed,
+}
+
+impl Phase {
+    pub fn name(self) -> &'static str {
+        match self {
+            Phase::InPhase => "in_phase",
+            Phase::Opposed => "opposed",
+        }
+    }
+}
+
+/// One wheel's slopes per unit of its own load (outboard or forward
+/// positive, in kN, or N·m for a torque).
+#[derive(Debug, Clone, PartialEq)]
+pub struct WheelCompliance {
+    pub wheel: String,
+    /// d toe / d load (toe-in positive): deg/kN or deg/(N·m).
+    pub toe: f64,
+    /// d camber / d load (top outboard positive): deg/kN or deg/(N·m).
+    pub camber: f64,
+    /// The wheel centre's displacement along the load (outboard for a
+    /// lateral force, forward for a longitudinal one), mm/kN; none for a
+    /// torque.
+    pub centre: Option<f64>,
+}
+
+/// A compliance event on one wheel, or on an axle's pair of wheels loaded
+/// together.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ComplianceMetrics {
+    pub input: Input,
+    /// `None` for a wheel loaded alone.
+    pub phase: Option<Phase>,
+    /// 1-based step of the slopes, and its case.
+    pub step: usize,
+    pub loadcase: String,
+    /// Left wheel first for a pair.
+    pub wheels: Vec<WheelCompliance>,
+}
+
+/// Loads below this are rig noise, not a swept input (N, N·mm).
+const STILL: f64 = 1e-9;
+
+fn varies(v: &[f64]) -> bool {
+    v.iter()
+        .any(|x| (x - v[0]).abs() > STILL * (1.0 + v[0].abs()))
+}
+
+/// `+1` for a left wheel, `-1` for a right one: the side of its centre, as
+/// toe is signed (`super::wheel_quantities`).
+fn side(rows: &[&KcRow]) -> f64 {
+    match rows.first() {
+        Some(r) if r.quantities.center[1] < 0.0 => -1.0,
+        _ => 1.0,
+    }
+}
+
+/// The input a wheel's rows sweep: exactly one of the four varies and the
+/// vertical load is held; `None` otherwise (no event, or a mixed one whose
+/// slopes would confound two loads).
+fn swept_input(rows: &[&KcRow]) -> Option<Input> {
+    let fz: Vec<f64> = rows.iter().map(|r| r.force[2]).collect();
+    if rows.len() < 2 || varies(&fz) {
+        return None;
+    }
+    let moving: Vec<Input> = Input::ALL
+        .into_iter()
+        .filter(|i| varies(&rows.iter().map(|r| i.global(r)).collect::<Vec<_>>()))
+        .collect();
+    match moving.as_slice() {
+        [one] => Some(*one),
+        _ => None,
+    }
+}
+
+/// The slopes of one wheel's rows at steps `a`, `b` (the reference's
+/// neighbours), per unit of the wheel's own load.
+fn slopes(input: Input, rows: &[&KcRow], a: usize, b: usize) -> WheelCompliance {
+    let s = side(rows);
+    let load = |k: usize| input.own(rows[k]) * TO_SLOPE_UNIT;
+    let dl = load(b) - load(a);
+    let q = |k: usize| &rows[k].quantities;
+    let centre = match input {
+        // Outboard: +y on the left, -y on the right.
+        Input::Lateral => Some(s * (q(b).center[1] - q(a).center[1]) / dl),
+        Input::Braking | Input::Traction => Some((q(b).center[0] - q(a).center[0]) / dl),
+        Input::AligningTorque => None,
+    };
+    WheelCompliance {
+        wheel: rows[0].wheel.clone(),
+        toe: (q(b).toe_deg - q(a).toe_deg) / dl,
+        camber: (q(b).camber_deg - q(a).camber_deg) / dl,
+        centre,
+    }
+}
+
+/// The compliance events of a path's K&C rows ([`super::kc_rows`], a row
+/// per case and wheel): one per axle pair whose wheels sweep the same
+/// input, and one per other wheel that sweeps one, in wheel order.
+pub fn compliance_metrics(model: &Model, rows: &[KcRow]) -> Vec<ComplianceMetrics> {
+    let nw = model.wheels.len();
+    if nw == 0 || !rows.len().is_multiple_of(nw) {
+        return Vec::new();
+    }
+    let n = rows.len() / nw;
+    let of = |w: usize| -> Vec<&KcRow> { (0..n).map(|k| &rows[k * nw + w]).collect() };
+    let inputs: Vec<Option<Input>> = (0..nw).map(|w| swept_input(&of(w))).collect();
+    // Each event's wheels: the pairs first, then wheels left alone.
+    let mut groups: Vec<(Input, Vec<usize>)> = Vec::new();
+    let mut grouped = vec![false; nw];
+    for (WheelId(l), WheelId(r)) in wheel_pairs(model) {
+        let (l, r) = (l as usize, r as usize);
+        if let (Some(il), Some(ir)) = (inputs[l], inputs[r])
+            && il == ir
+        {
+            groups.push((il, vec![l, r]));
+            grouped[l] = true;
+            grouped[r] = true;
+        }
+    }
+    for w in 0..nw {
+        if let (Some(i), false) = (inputs[w], grouped[w]) {
+            groups.push((i, vec![w]));
+        }
+    }
+    groups.sort_by_key(|(_, ws)| ws[0]);
+    let mut out = Vec::new();
+    for (input, wheels) in groups {
+        let first = of(wheels[0]);
+        let driver: Vec<f64> = first.iter().map(|r| input.global(r)).collect();
+        let Some((k, a, b)) = reference(&driver) else {
+            continue;
+        };
+        let phase = (wheels.len() == 2).then(|| {
+            let other: Vec<f64> = of(wheels[1]).iter().map(|r| input.global(r)).collect();
+            let s: f64 = driver
+                .iter()
+                .zip(&other)
+                .map(|(x, y)| (x - driver[0]) * (y - other[0]))
+                .sum();
+            if s >= 0.0 {
+                Phase::InPhase
+            } else {
+                Phase::Opposed
+            }
+        });
+        out.push(ComplianceMetrics {
+            input,
+            phase,
+            step: first[k].step,
+            loadcase: first[k].loadcase.clone(),
+            wheels: wheels
+                .iter()
+                .map(|&w| slopes(input, &of(w), a, b))
+                .collect(),
+        });
+    }
+    out
+}
