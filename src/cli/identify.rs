@@ -249,7 +249,8 @@ fn identify(
     Ok(r)
 }
 
-/// Writes `toe_camber_<direction>.svg` per swept load direction into `dir`;
+/// Writes `toe_camber_<direction>.svg` per swept load direction into `dir`
+/// (`toe_camber_<wheel>_<direction>.svg` per wheel of a model of several);
 /// returns one note per file with the toe and camber RMS against the measured
 /// curve of the initial and the identified model.
 fn write_report(
@@ -267,7 +268,7 @@ fn write_report(
     for c in &curves {
         let text = identify::report::svg(c, &initial.name, r.method)
             .map_err(|e| report_error(format!("cannot draw the report plots: {e}")))?;
-        let path = dir.join(format!("toe_camber_{}.svg", c.name));
+        let path = dir.join(format!("{}.svg", c.file));
         let code = super::input::emit(Some(&path), &text);
         if code != Exit::Ok {
             return Err(Failure(vec![], code));

@@ -13,7 +13,7 @@ use crate::measure::poses::StepPoses;
 use crate::model::{ElementId, LoadSet, LoadSetId, Model, PartId, PointLoad, WheelId};
 use crate::statics::State;
 
-/// K&C channels of one step (`interfaces.md`, "K&C rig data"), of the first wheel.
+/// K&C channels of one step (`interfaces.md`, "K&C rig data") of one wheel.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct KcObservation {
     /// The wheel measured (the row's `wheel`, or the model's only wheel).

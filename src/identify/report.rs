@@ -1,7 +1,7 @@
 //! The K&C curves of `identify --report` (thesis figures 4.11, 5.9, 5.12):
-//! toe and camber of the first wheel under each load direction the measured
-//! steps sweep, as measured, as the initial model computes them and as the
-//! identified model computes them.
+//! toe and camber of every wheel under each load direction the measured
+//! steps sweep at it, as measured, as the initial model computes them and as
+//! the identified model computes them.
 //!
 //! The measured quantities come from the K&C file when given, else from the
 //! fitted pose of the wheel's part. Both models are solved at the measured
@@ -22,10 +22,15 @@ const DIRECTIONS: [&str; 3] = ["longitudinal", "lateral", "vertical"];
 /// The three curves along one load direction, each ordered by that load.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Curves {
+    /// The wheel whose toe and camber these are.
+    pub wheel: String,
     /// The swept force component: 0, 1, 2 = fx, fy, fz.
     pub component: usize,
-    /// `longitudinal`, `lateral` or `vertical`: the file is `toe_camber_<name>.svg`.
+    /// `longitudinal`, `lateral` or `vertical`.
     pub name: &'static str,
+    /// The file's stem: `toe_camber_<name>` for a model of one wheel,
+    /// `toe_camber_<wheel>_<name>` (dots of a qualified name as `_`) else.
+    pub file: String,
     pub measured: Vec<KcRow>,
     pub initial: Vec<KcRow>,
     pub identified: Vec<KcRow>,
@@ -116,13 +121,8 @@ fn measured_row(model: &Model, data: &Measured, k: usize, w: &Wheel) -> Option<W
     None
 }
 
-/// The wheel's quantities of `model` solved at every measured step in order.
-fn simulate(
-    model: &Model,
-    data: &Measured,
-    w: &Wheel,
-    which: &str,
-) -> Result<Vec<WheelQuantities>, IdentifyError> {
+/// `model` solved at every measured step in order, from design.
+fn simulate(model: &Model, data: &Measured, which: &str) -> Result<Vec<State>, IdentifyError> {
     let problem = Problem::new(model)
         .map_err(|e| IdentifyError::statics(format!("report: the {which} model"), e, model))?;
     let run = path::simulate(
@@ -137,11 +137,7 @@ fn simulate(
         );
         return Err(IdentifyError::statics(context, e.error, model));
     }
-    Ok(run
-        .steps
-        .iter()
-        .map(|eq| wheel_quantities(model, &eq.state, w))
-        .collect())
+    Ok(run.steps.into_iter().map(|eq| eq.state).collect())
 }
 
 /// The steps of each load direction: those loaded along `c` alone (besides a
@@ -199,75 +195,124 @@ fn groups(loads: &[(Vec3, Vec3)]) -> Vec<(usize, Vec<usize>)> {
     out
 }
 
-/// The curves of every load direction the data sweep. `initial` is the model
-/// identification started from, `identified` the result applied to it.
+/// The curves of every wheel and load direction the data sweep at it, in
+/// wheel order. A wheel that no step loads, or whose toe and camber were
+/// not measured, has none; a model none of whose wheels has them is an
+/// error. `initial` is the model identification started from, `identified`
+/// the result applied to it.
 pub fn curves(
     initial: &Model,
     identified: &Model,
     data: &Measured,
 ) -> Result<Vec<Curves>, IdentifyError> {
-    let Some(w) = initial.wheels.first() else {
+    if initial.wheels.is_empty() {
         return Err(IdentifyError::of(
             IdentifyErrorKind::Report,
             "the report plots toe and camber of a wheel, and the model has none (declare a `wheel`)",
             vec![],
         ));
+    }
+    let all_wheels = || {
+        (0..initial.wheels.len() as u32)
+            .map(|w| ElementId::Wheel(WheelId(w)))
+            .collect()
     };
-    let loads = wheel_load(data, w);
-    if loads
+    let loads: Vec<Vec<(Vec3, Vec3)>> =
+        initial.wheels.iter().map(|w| wheel_load(data, w)).collect();
+    let loaded = |w: usize| {
+        loads[w]
+            .iter()
+            .any(|(f, t)| f.amax() != 0.0 || t.amax() != 0.0)
+    };
+    if !(0..loads.len()).any(loaded) {
+        let names: Vec<String> = initial
+            .wheels
+            .iter()
+            .map(|w| format!("`{}`", w.name))
+            .collect();
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Report,
+            format!(
+                "the report plots against the load on a wheel, and no step loads the contact marker of {}",
+                names.join(" or ")
+            ),
+            all_wheels(),
+        ));
+    }
+    let measured: Vec<Vec<Option<WheelQuantities>>> = initial
+        .wheels
         .iter()
-        .all(|(f, t)| f.amax() == 0.0 && t.amax() == 0.0)
-    {
-        return Err(IdentifyError::of(
-            IdentifyErrorKind::Report,
-            format!(
-                "the report plots against the load on wheel `{}`, and no step loads its contact marker",
-                w.name
-            ),
-            vec![ElementId::Wheel(WheelId(0))],
-        ));
-    }
-    let measured: Vec<Option<WheelQuantities>> = (0..data.steps.len())
-        .map(|k| measured_row(initial, data, k, w))
-        .collect();
-    if measured.iter().all(Option::is_none) {
-        return Err(IdentifyError::of(
-            IdentifyErrorKind::Report,
-            format!(
-                "the report needs the measured toe and camber: give --kc, or landmarks on the part of wheel `{}`",
-                w.name
-            ),
-            vec![ElementId::Wheel(WheelId(0))],
-        ));
-    }
-    let init = simulate(initial, data, w, "initial")?;
-    let ident = simulate(identified, data, w, "identified")?;
-    let step = |k: usize| data.steps[k].step;
-    Ok(groups(&loads)
-        .into_iter()
-        .map(|(c, idx)| Curves {
-            component: c,
-            name: DIRECTIONS[c],
-            measured: idx
-                .iter()
-                .filter_map(|&k| measured[k].map(|q| row(step(k), w, loads[k], q)))
-                .collect(),
-            initial: idx
-                .iter()
-                .map(|&k| row(step(k), w, loads[k], init[k]))
-                .collect(),
-            identified: idx
-                .iter()
-                .map(|&k| row(step(k), w, loads[k], ident[k]))
-                .collect(),
+        .map(|w| {
+            (0..data.steps.len())
+                .map(|k| measured_row(initial, data, k, w))
+                .collect()
         })
-        .collect())
+        .collect();
+    let plotted = |w: usize| loaded(w) && measured[w].iter().any(Option::is_some);
+    if !(0..loads.len()).any(plotted) {
+        let names: Vec<String> = initial
+            .wheels
+            .iter()
+            .map(|w| format!("`{}`", w.name))
+            .collect();
+        return Err(IdentifyError::of(
+            IdentifyErrorKind::Report,
+            format!(
+                "the report needs the measured toe and camber of a loaded wheel: give --kc, or landmarks on the part of {}",
+                names.join(" or ")
+            ),
+            all_wheels(),
+        ));
+    }
+    let init = simulate(initial, data, "initial")?;
+    let ident = simulate(identified, data, "identified")?;
+    let step = |k: usize| data.steps[k].step;
+    let one = initial.wheels.len() == 1;
+    let mut out = Vec::new();
+    for (wi, w) in initial
+        .wheels
+        .iter()
+        .enumerate()
+        .filter(|(wi, _)| plotted(*wi))
+    {
+        let loads = &loads[wi];
+        let q = |model: &Model, states: &[State], k: usize| {
+            wheel_quantities(model, &states[k], &model.wheels[wi])
+        };
+        for (c, idx) in groups(loads) {
+            let name = DIRECTIONS[c];
+            out.push(Curves {
+                wheel: w.name.clone(),
+                component: c,
+                name,
+                file: if one {
+                    format!("toe_camber_{name}")
+                } else {
+                    format!("toe_camber_{}_{name}", w.name.replace('.', "_"))
+                },
+                measured: idx
+                    .iter()
+                    .filter_map(|&k| measured[wi][k].map(|m| row(step(k), w, loads[k], m)))
+                    .collect(),
+                initial: idx
+                    .iter()
+                    .map(|&k| row(step(k), w, loads[k], q(initial, &init, k)))
+                    .collect(),
+                identified: idx
+                    .iter()
+                    .map(|&k| row(step(k), w, loads[k], q(identified, &ident, k)))
+                    .collect(),
+            });
+        }
+    }
+    Ok(out)
 }
 
 /// The SVG of one direction's curves.
 pub fn svg(c: &Curves, model: &str, method: Method) -> Result<String, String> {
     let title = format!(
-        "{model}: toe and camber under {} load, measured vs {} identification",
+        "{model}: toe and camber of {} under {} load, measured vs {} identification",
+        c.wheel,
         c.name,
         method.name()
     );
