@@ -13,6 +13,8 @@ use axle::model::Model;
 use axle::statics::{self, Equilibrium, Problem, compliance};
 use nalgebra::Vector3;
 
+mod common;
+
 fn checked(name: &str, text: &str) -> Model {
     let (_, c) = check_str(name, text);
     assert!(!c.problems.has_errors(), "{:?}", c.problems);
@@ -458,17 +460,9 @@ fn a_swept_vertical_load_or_two_horizontal_ones_are_no_compliance_event() {
 #[test]
 fn kc_prints_the_compliance_events_in_its_table_json_and_plots() {
     let kc = |args: &[&str]| {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_axle"))
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
-            .args(args)
-            .output()
-            .expect("runs");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8_lossy(&out.stdout).into_owned()
+        let (code, out, err) = common::axle(args);
+        assert_eq!(code, 0, "{err}");
+        out
     };
     let table = kc(&[
         "kc",
@@ -491,9 +485,7 @@ fn kc_prints_the_compliance_events_in_its_table_json_and_plots() {
     ]);
     let v: serde_json::Value = serde_json::from_str(&json).expect("json");
     insta::assert_json_snapshot!("aligning_opposed_json", v["compliance_events"]);
-    let dir = std::env::temp_dir().join(format!("axle_kc_compliance_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let svg = dir.join("traction.svg");
+    let svg = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("kc_traction.svg");
     kc(&[
         "kc",
         "examples/front_axle.axle",
@@ -517,5 +509,4 @@ fn kc_prints_the_compliance_events_in_its_table_json_and_plots() {
         text.contains("compliance camber front_right.wheel (opposed):"),
         "notes"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -141,6 +141,17 @@ const OPPOSED_COLS: [Col; 3] = [
     col("roll camber", "deg/deg", 4),
 ];
 
+/// A wheel's toe and camber slopes and, when the metric has one, a third.
+fn slope_row(wheel: &str, toe: f64, camber: f64, third: Option<f64>) -> Vec<Cell> {
+    let mut row = vec![
+        Cell::Text(wheel.to_string()),
+        Cell::Num(toe),
+        Cell::Num(camber),
+    ];
+    row.extend(third.map(Cell::Num));
+    row
+}
+
 /// The axle metrics (`docs/kc.md`): one block per wheel pair.
 pub fn axle_table(axles: &[AxleMetrics]) -> String {
     let mut out = String::new();
@@ -180,15 +191,7 @@ pub fn axle_table(axles: &[AxleMetrics]) -> String {
         let rows: Vec<Vec<Cell>> = a
             .wheels
             .iter()
-            .map(|w| {
-                let mut row = vec![
-                    Cell::Text(w.wheel.clone()),
-                    Cell::Num(w.toe),
-                    Cell::Num(w.camber),
-                ];
-                row.extend(w.rate.map(Cell::Num));
-                row
-            })
+            .map(|w| slope_row(&w.wheel, w.toe, w.camber, w.rate))
             .collect();
         out += &render(cols, &rows, "  ");
     }
@@ -272,15 +275,7 @@ pub fn compliance_table(events: &[ComplianceMetrics]) -> String {
         let rows: Vec<Vec<Cell>> = e
             .wheels
             .iter()
-            .map(|w| {
-                let mut row = vec![
-                    Cell::Text(w.wheel.clone()),
-                    Cell::Num(w.toe),
-                    Cell::Num(w.camber),
-                ];
-                row.extend(w.centre.map(Cell::Num));
-                row
-            })
+            .map(|w| slope_row(&w.wheel, w.toe, w.camber, w.centre))
             .collect();
         out += &render(&cols, &rows, "  ");
     }
