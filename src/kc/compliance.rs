@@ -183,11 +183,15 @@ fn swept_input(rows: &[&KcRow]) -> Option<Input> {
 }
 
 /// The slopes of one wheel's rows at steps `a`, `b` (the reference's
-/// neighbours), per unit of the wheel's own load.
-fn slopes(input: Input, rows: &[&KcRow], a: usize, b: usize) -> WheelCompliance {
+/// neighbours), per unit of the wheel's own load; `None` when its load is
+/// the same at both (a second wheel that does not move in step there).
+fn slopes(input: Input, rows: &[&KcRow], a: usize, b: usize) -> Option<WheelCompliance> {
     let s = side(rows);
     let load = |k: usize| input.own(rows[k]) * TO_SLOPE_UNIT;
     let dl = load(b) - load(a);
+    if dl == 0.0 || !dl.is_finite() {
+        return None;
+    }
     let q = |k: usize| &rows[k].quantities;
     let centre = match input {
         // Outboard: +y on the left, -y on the right.
@@ -195,12 +199,12 @@ fn slopes(input: Input, rows: &[&KcRow], a: usize, b: usize) -> WheelCompliance 
         Input::Braking | Input::Traction => Some((q(b).center[0] - q(a).center[0]) / dl),
         Input::AligningTorque => None,
     };
-    WheelCompliance {
+    Some(WheelCompliance {
         wheel: rows[0].wheel.clone(),
         toe: (q(b).toe_deg - q(a).toe_deg) / dl,
         camber: (q(b).camber_deg - q(a).camber_deg) / dl,
         centre,
-    }
+    })
 }
 
 /// The compliance events of a path's K&C rows ([`super::kc_rows`], a row
@@ -240,7 +244,13 @@ pub fn compliance_metrics(model: &Model, rows: &[KcRow]) -> Vec<ComplianceMetric
         let Some((k, a, b)) = reference(&driver) else {
             continue;
         };
-        let phase = (wheels.len() == 2).then(|| {
+        // A second wheel whose load stands still at the reference is left
+        // out: the event is then the first wheel's alone.
+        let slopes: Vec<WheelCompliance> = wheels
+            .iter()
+            .filter_map(|&w| slopes(input, &of(w), a, b))
+            .collect();
+        let phase = (slopes.len() == 2).then(|| {
             let other: Vec<f64> = of(wheels[1]).iter().map(|r| input.global(r)).collect();
             let s: f64 = driver
                 .iter()
@@ -258,11 +268,62 @@ pub fn compliance_metrics(model: &Model, rows: &[KcRow]) -> Vec<ComplianceMetric
             phase,
             step: first[k].step,
             loadcase: first[k].loadcase.clone(),
-            wheels: wheels
-                .iter()
-                .map(|&w| slopes(input, &of(w), a, b))
-                .collect(),
+            wheels: slopes,
         });
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kc::WheelQuantities;
+
+    /// A row of wheel `wheel` at `step` with lateral force `fy` and a toe
+    /// that follows it (0.1 deg/kN), centre at `y`.
+    fn row(step: usize, wheel: &str, y: f64, fy: f64) -> KcRow {
+        KcRow {
+            step,
+            loadcase: format!("c{step}"),
+            wheel: wheel.to_string(),
+            force: [0.0, fy, 4500.0],
+            torque: [0.0; 3],
+            centre_force: [0.0; 3],
+            quantities: WheelQuantities {
+                center: [0.0, y, 300.0],
+                spin_axis: [0.0, y.signum(), 0.0],
+                toe_deg: 1e-4 * fy * y.signum(),
+                camber_deg: 0.0,
+                travel_mm: 0.0,
+                half_track_mm: y.abs(),
+                half_track_change_mm: 0.0,
+                contact: [0.0, y, 0.0],
+            },
+            roll_deg: None,
+            rack_mm: None,
+        }
+    }
+
+    #[test]
+    fn a_second_wheel_standing_still_at_the_reference_is_left_out() {
+        let left = [-1000.0, 0.0, 1000.0].map(|f| row(0, "l", 750.0, f));
+        // The right wheel's load rises and falls elsewhere, but not across
+        // the reference's neighbours.
+        let right = [500.0, 500.0, 500.0].map(|f| row(0, "r", -750.0, f));
+        let (l, r): (Vec<&KcRow>, Vec<&KcRow>) = (left.iter().collect(), right.iter().collect());
+        assert!(slopes(Input::Lateral, &r, 0, 2).is_none());
+        let s = slopes(Input::Lateral, &l, 0, 2).expect("the left wheel's");
+        // Toe per kN of outboard force: 1e-4 deg/N.
+        assert!((s.toe - 0.1).abs() < 1e-12, "{s:?}");
+        assert_eq!(s.centre, Some(0.0));
+    }
+
+    #[test]
+    fn a_right_wheels_lateral_load_and_torque_count_outboard() {
+        let r = row(1, "r", -750.0, -2000.0);
+        assert_eq!(Input::Lateral.own(&r), 2000.0);
+        assert_eq!(Input::Braking.own(&r), 0.0);
+        let l = row(1, "l", 750.0, -2000.0);
+        assert_eq!(Input::Lateral.own(&l), -2000.0);
+    }
 }
