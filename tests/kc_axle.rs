@@ -237,3 +237,106 @@ fn roll_is_plotted_against_the_roll_angle() {
     }
     assert!(!text.contains("load increasing"));
 }
+
+/// `--without bar.torsion` gives the front axle's roll stiffness without its
+/// anti-roll bar: the same as the file with the bar's rate written as zero
+/// (`anti_roll_bar(k_torsion = 0 N*mm/deg)`, checked from source: another
+/// route to the same model), and half or so of the stiffness with it.
+#[test]
+fn roll_stiffness_without_the_bar_is_the_file_with_a_bar_of_zero_rate() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/front_axle.axle"),
+    )
+    .expect("readable");
+    let bar = "instance bar = anti_roll_bar(k_torsion = 15000 N*mm/deg)";
+    assert!(text.contains(bar), "the example's bar line");
+    let zero = text.replace(bar, "instance bar = anti_roll_bar(k_torsion = 0 N*mm/deg)");
+    let check = |t: &str| {
+        let (_, c) = check_str("front_axle.axle", t);
+        assert!(!c.problems.has_errors(), "{:?}", c.problems);
+        c.model.expect("checks")
+    };
+    let (with, edited) = (check(&text), check(&zero));
+    let bare = axle::kc::without::without(&with, &["bar.torsion".to_string()]).expect("exists");
+    let k_with = metrics(&with, "roll").roll_stiffness.expect("roll");
+    let k_bare = metrics(&bare, "roll").roll_stiffness.expect("roll");
+    let k_edited = metrics(&edited, "roll").roll_stiffness.expect("roll");
+    close("roll stiffness without the bar", k_bare, k_edited, 1e-6);
+    assert!(k_bare < 0.6 * k_with, "{k_bare} against {k_with}");
+
+    // Through the binary: table, JSON, and what is refused.
+    let (code, out, err) = common::axle(&[
+        "kc",
+        "examples/front_axle.axle",
+        "--sweep",
+        "roll",
+        "--without",
+        "bar.torsion",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("json");
+    let w = &v["axles"][0]["roll_stiffness_without"];
+    assert_eq!(w["elements"], serde_json::json!(["bar.torsion"]));
+    close(
+        "JSON",
+        w["nm_per_deg"].as_f64().expect("a number"),
+        k_edited,
+        1e-6,
+    );
+    let (code, _, err) = common::axle(&[
+        "kc",
+        "examples/front_axle.axle",
+        "--sweep",
+        "roll",
+        "--without",
+        "bar.mount_left",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("E0812") && err.contains("is a joint"), "{err}");
+    let (code, _, err) = common::axle(&[
+        "kc",
+        "examples/front_axle.axle",
+        "--sweep",
+        "parallel_bump",
+        "--without",
+        "bar.torsion",
+    ]);
+    assert_eq!(code, 0);
+    assert!(err.contains("W0812"), "{err}");
+    // Without its top mount the left strut turns freely about its axis:
+    // the solver's error names it, in the model without the mount.
+    let (code, _, err) = common::axle(&[
+        "kc",
+        "examples/front_axle.axle",
+        "--sweep",
+        "roll",
+        "--without",
+        "front_left.F",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("E1003")
+            && err.contains("`front_left.strut`")
+            && err.contains("in the model without front_left.F"),
+        "{err}"
+    );
+    // Without the springs the wheels ride up (152 mm) until the arm
+    // bushings carry the load: the figure comes with a warning that it is
+    // another ride height's.
+    let (code, _, err) = common::axle(&[
+        "kc",
+        "examples/front_axle.axle",
+        "--sweep",
+        "roll",
+        "--without",
+        "front_left.spring",
+        "front_right.spring",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("W0813") && err.contains("mm higher at the reference step"),
+        "{err}"
+    );
+}

@@ -20,6 +20,8 @@ pub struct Args {
     pub file: PathBuf,
     pub sweep: String,
     pub plot: Option<PathBuf>,
+    /// Force elements to leave out for the roll stiffness "without" them.
+    pub without: Vec<String>,
     pub format: OutFormat,
     pub output: Option<PathBuf>,
 }
@@ -152,7 +154,15 @@ fn plot_notes(
             ),
             (None, Some(k)) => note(
                 Quantity::Load,
-                format!("roll stiffness {} N*m/deg", g(k, 1)),
+                match &a.roll_stiffness_without {
+                    Some((kw, names)) => format!(
+                        "roll stiffness {} N*m/deg, {} without {}",
+                        g(k, 1),
+                        g(*kw, 1),
+                        names.join(", ")
+                    ),
+                    None => format!("roll stiffness {} N*m/deg", g(k, 1)),
+                },
             ),
             (None, None) if a.motion == Motion::Parallel => {
                 note(Quantity::HalfTrack, "roll centre at infinity".to_string())
@@ -210,6 +220,102 @@ fn plot_notes(
     notes
 }
 
+/// The roll stiffness of every axle the path rolls, on the model without the
+/// force elements `names` (`kc::without`), solved along the steps `rows`
+/// (the K&C rows of the model with them) reach. A name that is no force element is a usage error; a
+/// path that rolls no axle is warned about.
+fn roll_stiffness_without(
+    loaded: &super::input::Loaded,
+    set: LoadSetId,
+    names: &[String],
+    rows: &[KcRow],
+    axles: &mut [AxleMetrics],
+) -> Result<(), Exit> {
+    let solved = rows.iter().map(|r| r.step).max().unwrap_or(0);
+    let model = &loaded.model;
+    let bare = crate::kc::without::without(model, names).map_err(|d| {
+        loaded.report(&[d]);
+        Exit::Io
+    })?;
+    if !axles.iter().any(|a| a.motion == Motion::Opposed) {
+        loaded.report(&[Diagnostic::warning(
+            "W0812",
+            format!(
+                "--without {}: the path rolls no axle (no opposed wheel travel), so there is no roll stiffness to give without them",
+                names.join(" ")
+            ),
+        )]);
+        return Ok(());
+    }
+    let note = format!("in the model without {}", names.join(", "));
+    let problem = Problem::new(&bare).map_err(|e| {
+        loaded.report(&[e.to_diagnostic(&bare).note(note.clone())]);
+        Exit::Input
+    })?;
+    let run = crate::statics::path::run_set(&problem, set, &crate::statics::State::design(&bare));
+    if let Some(e) = run.failure.filter(|e| e.case < solved) {
+        loaded.report(&[e
+            .error
+            .to_diagnostic(&bare)
+            .note(format!("{note}, at step {}", e.case + 1))]);
+        return Err(Exit::Input);
+    }
+    // What the path's warnings say of the model without them (a bushing
+    // deformed past any rubber's travel, a wheel below the ground) is said
+    // of the figure given for it.
+    let cases: Vec<String> = bare.load_sets[set.index()]
+        .cases
+        .iter()
+        .map(|c| c.name.clone())
+        .collect();
+    let eqs = &run.steps[..solved.min(run.steps.len())];
+    let warnings: Vec<Diagnostic> = warning::of_path(&bare, &cases, eqs)
+        .into_iter()
+        .map(|w| w.note(note.clone()))
+        .collect();
+    loaded.report(&warnings);
+    let states: Vec<_> = eqs.iter().map(|e| &e.state).collect();
+    let their_rows = kc_rows(&bare, set, &states);
+    let theirs = axle_metrics(&bare, &their_rows);
+    for a in axles.iter_mut().filter(|a| a.motion == Motion::Opposed) {
+        let same = theirs.iter().find(|b| {
+            b.motion == Motion::Opposed
+                && b.wheels[0].wheel == a.wheels[0].wheel
+                && b.wheels[1].wheel == a.wheels[1].wheel
+        });
+        let Some((b, k)) = same.and_then(|b| b.roll_stiffness.map(|k| (b, k))) else {
+            continue;
+        };
+        // A slope at another ride height is another suspension's: say so.
+        let rise = mean_travel(&their_rows, b) - mean_travel(rows, a);
+        if rise.abs() > 1.0 {
+            loaded.report(&[Diagnostic::warning(
+                "W0813",
+                format!(
+                    "without {} the wheels {} / {} stand {} mm {} at the reference step: the roll stiffness without them is taken at another ride height",
+                    names.join(", "),
+                    a.wheels[0].wheel,
+                    a.wheels[1].wheel,
+                    fixed(rise.abs(), 1, 0),
+                    if rise > 0.0 { "higher" } else { "lower" }
+                ),
+            )]);
+        }
+        a.roll_stiffness_without = Some((k, names.to_vec()));
+    }
+    Ok(())
+}
+
+/// The mean wheel travel of an axle's two wheels at its metrics' reference step.
+fn mean_travel(rows: &[KcRow], a: &AxleMetrics) -> f64 {
+    let travel = |w: &str| {
+        rows.iter()
+            .find(|r| r.step == a.step && r.wheel == w)
+            .map_or(0.0, |r| r.quantities.travel_mm)
+    };
+    0.5 * (travel(&a.wheels[0].wheel) + travel(&a.wheels[1].wheel))
+}
+
 pub fn run(args: &Args) -> Exit {
     match kc(args) {
         Ok(e) | Err(e) => e,
@@ -241,7 +347,10 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
     loaded.report(&warning::of_path(model, &names, eqs));
     let states: Vec<_> = eqs.iter().map(|e| &e.state).collect();
     let mut rows: Vec<KcRow> = kc_rows(model, set, &states);
-    let axles = axle_metrics(model, &rows);
+    let mut axles = axle_metrics(model, &rows);
+    if !args.without.is_empty() {
+        roll_stiffness_without(&loaded, set, &args.without, &rows, &mut axles)?;
+    }
     let events = compliance_metrics(model, &rows);
     // A path that drives a steering rack: its travel on every row, and the
     // wheels' steering geometry.

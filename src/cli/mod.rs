@@ -108,6 +108,11 @@ pub enum Cmd {
         /// Write the K&C plots to this SVG file.
         #[arg(long, value_name = "OUT.svg")]
         plot: Option<PathBuf>,
+        /// Also give each axle's roll stiffness without these force elements
+        /// (bushings, springs, stops, frictions), e.g. the anti-roll bar's
+        /// `bar.torsion`.
+        #[arg(long, value_name = "ELEMENT", num_args = 1..)]
+        without: Vec<String>,
         #[arg(long, value_enum, default_value = "table")]
         format: OutFormat,
         /// Write the results here instead of stdout.
@@ -244,12 +249,14 @@ pub fn run(cli: Cli) -> Exit {
             file,
             sweep,
             plot,
+            without,
             format,
             output,
         } => kc::run(&kc::Args {
             file,
             sweep,
             plot,
+            without,
             format,
             output,
         }),

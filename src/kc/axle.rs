@@ -61,6 +61,9 @@ pub struct AxleMetrics {
     pub roll_centre: Option<[f64; 2]>,
     /// Roll stiffness `-dMx/dφ`, N·m/deg (opposed travel).
     pub roll_stiffness: Option<f64>,
+    /// The roll stiffness of the model without some force elements (the
+    /// anti-roll bar: `axle kc --without`), and their names; set by the caller.
+    pub roll_stiffness_without: Option<(f64, Vec<String>)>,
 }
 
 /// The wheel pairs of a model: each wheel left of the plane of symmetry
@@ -220,6 +223,7 @@ pub fn axle_metrics(model: &Model, rows: &[KcRow]) -> Vec<AxleMetrics> {
             ],
             roll_centre,
             roll_stiffness,
+            roll_stiffness_without: None,
         });
     }
     out

@@ -3,7 +3,8 @@
 //! an axle's pair of wheels along a path ([`axle`]), compliance steer
 //! and camber under horizontal wheel loads ([`compliance`]), the steering geometry
 //! of a path that drives a rack ([`steer`]), ride-height trim
-//! ([`trim`]), and the wheel-centre heights an `.lcf` in height mode carries
+//! ([`trim`]), a model without some force elements for the metrics "without
+//! the bar" ([`without`]), and the wheel-centre heights an `.lcf` in height mode carries
 //! ([`heights`]). The statics engine knows none of them.
 
 pub mod axle;
@@ -12,6 +13,7 @@ pub mod heights;
 pub mod steer;
 pub mod trim;
 pub mod wheel;
+pub mod without;
 
 pub use axle::{AxleMetrics, Motion, axle_metrics};
 pub use compliance::{ComplianceMetrics, Input, Phase, compliance_metrics};

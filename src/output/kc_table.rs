@@ -184,6 +184,13 @@ pub fn axle_table(axles: &[AxleMetrics]) -> String {
                 if let Some(k) = a.roll_stiffness {
                     out += &format!("  roll stiffness: {} N*m/deg\n", fixed(k, 1, 0));
                 }
+                if let Some((k, names)) = &a.roll_stiffness_without {
+                    out += &format!(
+                        "  roll stiffness without {}: {} N*m/deg\n",
+                        names.join(", "),
+                        fixed(*k, 1, 0)
+                    );
+                }
                 &OPPOSED_COLS
             }
         };

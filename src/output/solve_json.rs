@@ -197,6 +197,16 @@ fn axle(w: &mut Json, a: &AxleMetrics) {
             if let Some(k) = a.roll_stiffness {
                 w.key("roll_stiffness_nm_per_deg").num(k);
             }
+            if let Some((k, names)) = &a.roll_stiffness_without {
+                w.key("roll_stiffness_without").begin_object();
+                w.key("elements").begin_array();
+                for n in names {
+                    w.str(n);
+                }
+                w.end_array();
+                w.key("nm_per_deg").num(*k);
+                w.end_object();
+            }
         }
     }
     w.key("step").int(a.step as u64);
