@@ -19,6 +19,10 @@ pub const MODULES: &[(&str, &str)] = &[
         "steering_rack",
         include_str!("../stdlib/steering_rack.axle"),
     ),
+    (
+        "double_wishbone_corner",
+        include_str!("../stdlib/double_wishbone_corner.axle"),
+    ),
 ];
 
 pub fn module(name: &str) -> Option<&'static str> {
