@@ -23,6 +23,10 @@ pub const MODULES: &[(&str, &str)] = &[
         "double_wishbone_corner",
         include_str!("../stdlib/double_wishbone_corner.axle"),
     ),
+    (
+        "multilink_corner",
+        include_str!("../stdlib/multilink_corner.axle"),
+    ),
 ];
 
 pub fn module(name: &str) -> Option<&'static str> {
