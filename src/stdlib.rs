@@ -27,6 +27,10 @@ pub const MODULES: &[(&str, &str)] = &[
         "multilink_corner",
         include_str!("../stdlib/multilink_corner.axle"),
     ),
+    (
+        "twist_beam_axle",
+        include_str!("../stdlib/twist_beam_axle.axle"),
+    ),
 ];
 
 pub fn module(name: &str) -> Option<&'static str> {

@@ -2,7 +2,8 @@
 //! expectations: a template corner expands to exactly its flat example and
 //! solves as it does; a mirrored instance under mirrored loads stands in the
 //! mirror image; the multi-link's wheel load does the work its springs and
-//! bushings store (virtual work).
+//! bushings store (virtual work); the twist beam's wheel rate and roll
+//! stiffness are the hand calculation from its springs, pivots and beam.
 
 use axle::check::check_str;
 use axle::geom::{Mat3, Vec3};
@@ -230,6 +231,25 @@ fn the_mirrored_double_wishbone_under_mirrored_loads_is_the_mirror_image() {
     );
 }
 
+/// The axle metrics of a solved set (one per wheel pair the set moves).
+fn axle_metrics(m: &Model, set: &str) -> Vec<axle::kc::AxleMetrics> {
+    let id = m.load_set_named(set).expect("set");
+    let eqs = statics::solve_set(m, id).expect("solves");
+    let states: Vec<_> = eqs.iter().map(|e| &e.state).collect();
+    axle::kc::axle_metrics(m, &axle::kc::kc_rows(m, id, &states))
+}
+
+fn close(what: &str, got: f64, want: f64, rel: f64) {
+    eprintln!(
+        "{what}: {got:.6} (expected {want:.6}, {:.2e} relative)",
+        (got - want) / want
+    );
+    assert!(
+        (got - want).abs() <= rel * want.abs(),
+        "{what}: {got} against {want}"
+    );
+}
+
 /// Elastic energy stored in the springs and bushings of a solved case,
 /// N·mm, from the reported deformations and forces: a linear element
 /// stores half its force times its deformation (a bushing's angles are
@@ -362,4 +382,117 @@ fn the_mirrored_multilink_under_mirrored_loads_is_the_mirror_image() {
     );
     assert!(moved > 5.0);
     assert!(worst.0 < 1e-9 && worst.1 < 1e-12, "{worst:?}");
+}
+
+// ---------------------------------------------------------------------------
+// Twist beam: roll stiffness from the springs and the beam's torsion.
+// ---------------------------------------------------------------------------
+
+/// The axle with its springs at their free length at design (no preload)
+/// and stiff pivots (1e5 N/mm radially: their compliance moves a wheel by
+/// a few thousandths of a mm of the 8 mm they travel here), swept about zero load so the
+/// slopes at design are those of the small-motion hand calculation.
+const TB: &str = "model tb_axle
+
+import twist_beam_axle
+
+ground chassis {
+}
+
+instance rear = twist_beam_axle(free_length = 280 mm, k_pivot = 100000 N/mm)
+
+loads parallel sweep {
+    rear.wheel_left.fz -400 N -> 400 N by 100 N
+    rear.wheel_right.fz -400 N -> 400 N by 100 N
+}
+
+loads roll sweep {
+    rear.wheel_left.fz 0 N -> 400 N -> -400 N -> 0 N by 100 N
+    rear.wheel_right.fz 0 N -> -400 N -> 400 N -> 0 N by 100 N
+}
+";
+
+// The template's numbers (stdlib/twist_beam_axle.axle), for the hand
+// calculation.
+const TB_PIVOT: [f64; 3] = [-2250.0, 650.0, 330.0];
+const TB_CENTRE: [f64; 3] = [-2400.0, 0.0, 330.0];
+const TB_SEAT: [f64; 3] = [-2600.0, 560.0, 250.0];
+const TB_WHEEL: [f64; 3] = [-2700.0, 750.0, 300.0];
+const TB_K_SPRING: f64 = 35.0; // N/mm
+const TB_K_TORSION: f64 = 60000.0; // N*mm/deg
+const TB_KT_PIVOT_AXIAL: f64 = 2000.0; // N*mm/deg, about the pivot axis y
+const TB_KT_PIVOT_RADIAL: f64 = 8000.0; // N*mm/deg
+
+/// A rotation θ about the unit axis `a` through `p` lifts a point `x` by
+/// θ (a × (x - p))_z.
+fn lift(a: Vec3, p: Vec3, x: Vec3) -> f64 {
+    a.cross(&(x - p)).z
+}
+
+/// In parallel travel both halves turn alike about the pivot axis (y), so
+/// the beam does not twist and the axle's wheel rate is the spring's
+/// through its lever plus the pivots' torsion: k (l_s/l_w)² + kt/l_w².
+#[test]
+fn in_parallel_bump_the_twist_beam_does_not_twist_and_has_the_hand_wheel_rate() {
+    let m = checked("tb_axle.axle", TB);
+    let e = solve(&m, "parallel");
+    let mut twist = 0.0f64;
+    let mut turn = 0.0f64;
+    for (k, c) in e.iter().enumerate() {
+        let r = axle::output::report::case_report(&m, "case", k + 1, c);
+        twist = twist.max(r.bushings["rear.torsion"].deformation[4].abs());
+        let (_, rot) = pose(&m, c, "rear.half_left");
+        turn = turn.max(rot[(0, 2)].atan2(rot[(0, 0)]).abs().to_degrees());
+    }
+    eprintln!("beam twist {twist:.2e} deg while the halves turn up to {turn:.2} deg");
+    // 1e-7 deg is 8e-7 mm at the wheel: the solver's convergence, not a twist.
+    assert!(turn > 1.0 && twist < 1e-7, "{turn} {twist}");
+    let a = axle_metrics(&m, "parallel");
+    assert_eq!(a.len(), 1);
+    let (p, s, w) = (
+        Vec3::from(TB_PIVOT),
+        Vec3::from(TB_SEAT),
+        Vec3::from(TB_WHEEL),
+    );
+    let y = Vec3::y();
+    let (gw, gs) = (lift(y, p, w), lift(y, p, s));
+    let rate = (TB_K_SPRING * gs * gs + TB_KT_PIVOT_AXIAL / DEG) / (gw * gw);
+    for wheel in &a[0].wheels {
+        close("wheel rate, N/mm", wheel.rate.expect("a rate"), rate, 2e-3);
+    }
+}
+
+/// In roll each half turns about the line from its pivot P to the beam's
+/// centre C (unit a), by θ; the halves twist relative to each other by
+/// 2 |a_y| θ about y. Stored energy of the axle
+/// θ² [k g_s² + kt_r (a_x² + a_z²) + kt_a a_y² + 2 k_t a_y²] against the
+/// work 2 f g_w θ of the wheel loads ±f, with g the lift of a point per unit
+/// θ; the body rolls by φ = g_w θ / (t/2), so the roll stiffness
+/// dMx/dφ = 2 (t/2)² E / g_w².
+#[test]
+fn the_twist_beam_roll_stiffness_is_the_hand_calculation_from_springs_and_beam() {
+    let m = checked("tb_axle.axle", TB);
+    let a = axle_metrics(&m, "roll");
+    assert_eq!(a.len(), 1);
+    assert_eq!(a[0].motion, axle::kc::Motion::Opposed);
+    let (p, c) = (Vec3::from(TB_PIVOT), Vec3::from(TB_CENTRE));
+    let (s, w) = (Vec3::from(TB_SEAT), Vec3::from(TB_WHEEL));
+    let u = (c - p).normalize();
+    let (gw, gs) = (lift(u, p, w), lift(u, p, s));
+    let energy = TB_K_SPRING * gs * gs
+        + (TB_KT_PIVOT_RADIAL * (u.x * u.x + u.z * u.z)
+            + TB_KT_PIVOT_AXIAL * u.y * u.y
+            + 2.0 * TB_K_TORSION * u.y * u.y)
+            / DEG;
+    let half_track = TB_WHEEL[1];
+    // N*mm/rad -> N*m/deg.
+    let k_roll = 2.0 * half_track * half_track * energy / (gw * gw) * DEG / 1000.0;
+    let beam_share = 4.0 * half_track * half_track * TB_K_TORSION * u.y * u.y / (gw * gw) / 1000.0;
+    eprintln!("beam's share of the roll stiffness: {beam_share:.1} N*m/deg");
+    close(
+        "roll stiffness, N*m/deg",
+        a[0].roll_stiffness.expect("a roll stiffness"),
+        k_roll,
+        5e-3,
+    );
 }
