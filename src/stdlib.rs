@@ -19,6 +19,18 @@ pub const MODULES: &[(&str, &str)] = &[
         "steering_rack",
         include_str!("../stdlib/steering_rack.axle"),
     ),
+    (
+        "double_wishbone_corner",
+        include_str!("../stdlib/double_wishbone_corner.axle"),
+    ),
+    (
+        "multilink_corner",
+        include_str!("../stdlib/multilink_corner.axle"),
+    ),
+    (
+        "twist_beam_axle",
+        include_str!("../stdlib/twist_beam_axle.axle"),
+    ),
 ];
 
 pub fn module(name: &str) -> Option<&'static str> {
