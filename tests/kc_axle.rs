@@ -340,3 +340,19 @@ fn roll_stiffness_without_the_bar_is_the_file_with_a_bar_of_zero_rate() {
         "{err}"
     );
 }
+
+/// A table of manoeuvres (curb, laden, turn, braking) moves the wheels'
+/// vertical loads together with their horizontal ones: its differences are
+/// no wheel travel, and it gets no axle block; the bump and roll sets of
+/// the same car get one per axle.
+#[test]
+fn a_table_of_manoeuvres_gives_no_axle_metrics() {
+    let (code, out, err) = common::axle(&["kc", "examples/vehicle.axle", "--sweep", "vehicle"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!out.contains("\naxle "), "{out}");
+    for set in ["front_roll", "rear_roll"] {
+        let (code, out, err) = common::axle(&["kc", "examples/vehicle.axle", "--sweep", set]);
+        assert_eq!(code, 0, "{err}");
+        assert_eq!(out.matches("\naxle ").count(), 1, "{set}: {out}");
+    }
+}

@@ -123,6 +123,23 @@ fn motion(fl: &[f64], fr: &[f64]) -> Option<Motion> {
     }
 }
 
+/// Whether the wheel's rows hold every load but the vertical one: the
+/// horizontal forces and the torques at the contact point, and any force at
+/// the wheel centre.
+fn only_fz_moves(rows: &[&KcRow]) -> bool {
+    let Some(first) = rows.first() else {
+        return true;
+    };
+    let held = |a: &KcRow| {
+        let same = |x: f64, y: f64| (x - y).abs() <= 1e-9 * (1.0 + y.abs());
+        same(a.force[0], first.force[0])
+            && same(a.force[1], first.force[1])
+            && (0..3).all(|c| same(a.torque[c], first.torque[c]))
+            && (0..3).all(|c| same(a.centre_force[c], first.centre_force[c]))
+    };
+    rows.iter().all(|r| held(r))
+}
+
 /// The reference step and the two steps whose difference gives a slope
 /// there. The reference is nearest x = 0 (a path may pass there several
 /// times, up and back: the first passage with a neighbour on each side that
@@ -168,6 +185,12 @@ pub fn axle_metrics(model: &Model, rows: &[KcRow]) -> Vec<AxleMetrics> {
         let (rl, rr) = (of(l), of(r));
         let fz = |rs: &[&KcRow]| -> Vec<f64> { rs.iter().map(|r| r.force[2]).collect() };
         let (fl, fr) = (fz(&rl), fz(&rr));
+        // A path that also moves a wheel's horizontal loads or torques (a
+        // table of manoeuvres: curb, turn, braking) is no wheel travel: its
+        // differences mix the loads.
+        if !only_fz_moves(&rl) || !only_fz_moves(&rr) {
+            continue;
+        }
         let Some(mo) = motion(&fl, &fr) else {
             continue;
         };
