@@ -510,3 +510,28 @@ fn kc_prints_the_compliance_events_in_its_table_json_and_plots() {
         "notes"
     );
 }
+
+/// The car's lateral event gives an event per axle. With the body fixed the
+/// axles do not touch, so the front one is the front axle's own event (the
+/// same corners, bar and rack), and the mirrored rear corners agree.
+#[test]
+fn the_cars_lateral_event_is_each_axles_own() {
+    let car = checked("examples/vehicle.axle", &example("vehicle.axle"));
+    let axle = checked("examples/front_axle.axle", &example("front_axle.axle"));
+    let ev = run(&car, "lateral_in_phase").events;
+    assert_eq!(ev.len(), 2, "front and rear");
+    assert!(ev.iter().all(|e| e.phase == Some(Phase::InPhase)));
+    let front = &run(&axle, "lateral_in_phase").events[0];
+    for (a, b) in ev[0].wheels.iter().zip(&front.wheels) {
+        assert_eq!(a.wheel, b.wheel);
+        close(a.toe, b.toe, 1e-9, "front toe, car and axle");
+        close(a.camber, b.camber, 1e-9, "front camber, car and axle");
+    }
+    let [l, r] = [&ev[1].wheels[0], &ev[1].wheels[1]];
+    assert_eq!(
+        (l.wheel.as_str(), r.wheel.as_str()),
+        ("rear_left.wheel", "rear_right.wheel")
+    );
+    close(l.toe, r.toe, 1e-6, "rear toe, the two sides");
+    close(l.camber, r.camber, 1e-6, "rear camber, the two sides");
+}
