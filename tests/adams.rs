@@ -6,7 +6,7 @@
 mod adams_reader;
 
 use axle::check::check_str;
-use axle::emit::{Vertical, emit_acf, emit_adm, emit_lcf, emit_lcf_as, load_set};
+use axle::emit::{Vertical, emit_acf, emit_adm, emit_lcf, emit_lcf_as, emit_lcf_axle, load_set};
 use axle::geom::{Mat3, euler_zxz, frame_from_z_x};
 use axle::import::import_adm;
 use axle::model::{Model, PointLoad};
@@ -160,6 +160,65 @@ fn imported_models_reach_the_same_equilibria() {
         let back = import(&adm(&m));
         same_equilibria(&name, &m, &back);
     }
+}
+
+/// The data rows of a loadcase file.
+fn lcf_rows(text: &str) -> Vec<Vec<f64>> {
+    text.lines()
+        .skip_while(|l| !l.starts_with("{ whl_z_l"))
+        .skip(1)
+        .map(|l| {
+            l.split_whitespace()
+                .filter_map(|x| x.parse().ok())
+                .collect()
+        })
+        .collect()
+}
+
+/// A car's `.lcf` is one axle's (`--axle`): the front axle of the car under
+/// its front bump is the front axle example's file under the same wheel
+/// loads (the rear wheels' static loads are not in it), and a force at a
+/// wheel centre (traction) is the `drive` column.
+#[test]
+fn an_lcf_of_a_car_is_one_axles_and_traction_is_the_drive_column() {
+    let all = examples();
+    let get = |n: &str| all.iter().find(|(x, _)| x == n).map(|(_, m)| m).expect(n);
+    let (car, axle) = (get("vehicle"), get("front_axle"));
+    let front = emit_lcf_axle(
+        car,
+        load_set(car, Some("front_bump")).expect("set"),
+        &Vertical::Force,
+        Some("front_right.wheel"),
+    )
+    .expect("the front axle's file");
+    assert!(front.contains("$ left wheel: front_left.wheel\n$ right wheel: front_right.wheel\n"));
+    let alone = emit_lcf(axle, load_set(axle, Some("parallel_bump")).expect("set")).expect("lcf");
+    assert_eq!(lcf_rows(&front), lcf_rows(&alone));
+    assert_eq!(lcf_rows(&front).len(), 57);
+    let rear = emit_lcf_axle(
+        car,
+        load_set(car, Some("vehicle")).expect("set"),
+        &Vertical::Force,
+        Some("rear_left.wheel"),
+    )
+    .expect("the rear axle's file");
+    // braking: 2500 N on each rear wheel, 1500 N of brake force (rearward +).
+    let braking = &lcf_rows(&rear)[3];
+    assert_eq!(
+        (braking[0], braking[1], braking[10], braking[11]),
+        (2500.0, 2500.0, 1500.0, 1500.0)
+    );
+    // Without --axle the car is refused, naming the way out.
+    let e = emit_lcf(car, load_set(car, Some("vehicle")).expect("set")).expect_err("four wheels");
+    assert!(e.to_string().contains("--axle"), "{e}");
+    let traction =
+        emit_lcf(axle, load_set(axle, Some("traction_opposed")).expect("set")).expect("lcf");
+    // Case 2: +500 N forward at the left centre, -500 N at the right.
+    let row = &lcf_rows(&traction)[1];
+    assert_eq!(
+        (row[12], row[13], row[10], row[11]),
+        (500.0, -500.0, 0.0, 0.0)
+    );
 }
 
 /// `.lcf` in `wheel_center_height` mode: each row's whl_z is the wheel-centre z

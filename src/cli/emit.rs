@@ -1,4 +1,4 @@
-//! `axle emit adm|acf|lcf FILE [--loadcases SET] -o OUT`.
+//! `axle emit adm|acf|lcf FILE [--loadcases SET] [--vertical force|height] [--axle WHEEL] -o OUT`.
 
 use super::Exit;
 use super::input::{Loaded, load_model, pick_set_reported};
@@ -38,6 +38,7 @@ pub fn run(
     file: &Path,
     loadcases: Option<&str>,
     vertical: VerticalMode,
+    axle: Option<&str>,
     out: Option<&PathBuf>,
 ) -> Exit {
     let loaded = match load_model(file) {
@@ -69,10 +70,11 @@ pub fn run(
                 let prefix = adm.trim_end_matches(".adm").to_string();
                 emit::emit_acf(model, s, &adm, &prefix)
             } else if vertical == VerticalMode::Height {
-                crate::kc::heights::centre_heights(model, s)
-                    .and_then(|h| emit::emit_lcf_as(model, s, &emit::Vertical::CentreHeight(h)))
+                crate::kc::heights::centre_heights(model, s).and_then(|h| {
+                    emit::emit_lcf_axle(model, s, &emit::Vertical::CentreHeight(h), axle)
+                })
             } else {
-                emit::emit_lcf(model, s)
+                emit::emit_lcf_axle(model, s, &emit::Vertical::Force, axle)
             }
         }
     };

@@ -130,6 +130,10 @@ pub enum Cmd {
         /// lcf vertical columns: the wheel forces, or the wheel-centre heights axle solves for.
         #[arg(long, value_enum, default_value = "force")]
         vertical: emit::VerticalMode,
+        /// lcf of a model of more than two wheels: the axle of this wheel
+        /// (it and the wheel on the other side nearest its mirror image).
+        #[arg(long, value_name = "WHEEL")]
+        axle: Option<String>,
         /// Output file (default: stdout).
         #[arg(short, long)]
         output: Option<PathBuf>,
@@ -267,8 +271,16 @@ pub fn run(cli: Cli) -> Exit {
             file,
             loadcases,
             vertical,
+            axle,
             output,
-        } => emit::run(kind, &file, loadcases.as_deref(), vertical, output.as_ref()),
+        } => emit::run(
+            kind,
+            &file,
+            loadcases.as_deref(),
+            vertical,
+            axle.as_deref(),
+            output.as_ref(),
+        ),
         Cmd::Import {
             kind: _,
             file,

@@ -17,6 +17,8 @@ pub enum EmitError {
     NotAWheelLoad { set: String, channel: String },
     /// Two wheels on the same side of the car (an `.lcf` has one left and one right column).
     WheelSide { wheel: String, other: String },
+    /// `--axle` names no wheel of the model.
+    UnknownWheel { name: String, known: Vec<String> },
     /// The named load set does not exist.
     UnknownLoadSet { name: String, known: Vec<String> },
     /// The model has no load set to write.
@@ -53,7 +55,12 @@ impl fmt::Display for EmitError {
             ),
             EmitError::WheelSide { wheel, other } => write!(
                 f,
-                "wheels `{other}` and `{wheel}` are on the same side; an Adams/Car loadcase file has one left and one right wheel"
+                "wheels `{other}` and `{wheel}` are on the same side; an Adams/Car loadcase file has one left and one right wheel (give `--axle {other}` to write the file of its axle)"
+            ),
+            EmitError::UnknownWheel { name, known } => write!(
+                f,
+                "--axle `{name}`: the model has no wheel of that name (its wheels: {})",
+                known.join(", ")
             ),
             EmitError::UnknownLoadSet { name, known } => write!(
                 f,

@@ -1,9 +1,11 @@
 //! Model + load set → Adams/Car suspension loadcase file (`.lcf`, FILE_VERSION
 //! 6.0, the header of thesis Annexe H and the 19 columns of the public
 //! Adams/Car files): one row per load case, left and right columns from the
-//! model's wheels (left: centre y >= 0 at design). The vertical columns are the
+//! model's wheels (left: centre y >= 0 at design), or of one axle's two wheels
+//! of a model of more ([`emit_lcf_axle`]). The vertical columns are the
 //! wheel forces (`wheel_vertical_force`) or the wheel-centre heights axle
-//! solves for (`wheel_center_height`).
+//! solves for (`wheel_center_height`). A force at a wheel's centre marker is
+//! its drive force (`drive`, forward positive).
 
 use super::error::EmitError;
 use super::writer::num;
@@ -31,30 +33,60 @@ const COLUMNS: [&str; 19] = [
     "steer",
 ];
 
-/// The wheel a channel loads, or an error naming the channel.
-fn wheel_of(m: &Model, set: &LoadSet, ch: &Channel) -> Result<WheelId, EmitError> {
+/// The wheel a channel loads (at its contact marker, or a force at its
+/// centre marker: `true`, the drive force), or an error naming the channel.
+fn wheel_of(m: &Model, set: &LoadSet, ch: &Channel) -> Result<(WheelId, bool), EmitError> {
     let name = || match ch.target {
         LoadTarget::Marker(mk) => format!("{}.{}", m.marker_path(mk), ch.component.name()),
         LoadTarget::Wheel(w) => format!("{}.{}", m.wheels[w.index()].name, ch.component.name()),
         LoadTarget::DefaultWheel => ch.component.name().to_string(),
     };
+    let not_a_wheel_load = || EmitError::NotAWheelLoad {
+        set: set.name.clone(),
+        channel: name(),
+    };
     match ch.target {
-        LoadTarget::Wheel(w) => Ok(w),
-        LoadTarget::DefaultWheel if m.wheels.len() == 1 => Ok(WheelId(0)),
+        LoadTarget::Wheel(w) => Ok((w, false)),
+        LoadTarget::DefaultWheel if m.wheels.len() == 1 => Ok((WheelId(0), false)),
         LoadTarget::DefaultWheel => Err(EmitError::UnresolvedLoad {
             set: set.name.clone(),
             channel: name(),
         }),
-        LoadTarget::Marker(mk) => m
-            .wheels
-            .iter()
-            .position(|w| w.contact == mk)
-            .map(|k| WheelId(k as u32))
-            .ok_or_else(|| EmitError::NotAWheelLoad {
-                set: set.name.clone(),
-                channel: name(),
-            }),
+        LoadTarget::Marker(mk) => {
+            if let Some(k) = m.wheels.iter().position(|w| w.contact == mk) {
+                return Ok((WheelId(k as u32), false));
+            }
+            // Only the longitudinal force has a column at the centre.
+            match m.wheels.iter().position(|w| w.centre == mk) {
+                Some(k) if ch.component == Component::Fx => Ok((WheelId(k as u32), true)),
+                _ => Err(not_a_wheel_load()),
+            }
+        }
     }
+}
+
+/// The two wheels of the axle of wheel `name`: it and the wheel on the other
+/// side nearest its mirror image (design centres), as `kc` pairs them.
+fn axle_of(m: &Model, name: &str) -> Result<Vec<WheelId>, EmitError> {
+    let Some(k) = m.wheels.iter().position(|w| w.name == name) else {
+        return Err(EmitError::UnknownWheel {
+            name: name.to_string(),
+            known: m.wheels.iter().map(|w| w.name.clone()).collect(),
+        });
+    };
+    let c = m.marker(m.wheels[k].centre).origin();
+    let mirror = nalgebra::Vector3::new(c.x, -c.y, c.z);
+    let other = (0..m.wheels.len())
+        .filter(|&j| j != k && (m.marker(m.wheels[j].centre).origin().y < 0.0) != (c.y < 0.0))
+        .min_by(|&a, &b| {
+            let d = |j: usize| (m.marker(m.wheels[j].centre).origin() - mirror).norm();
+            d(a).total_cmp(&d(b))
+        });
+    Ok([k]
+        .into_iter()
+        .chain(other)
+        .map(|j| WheelId(j as u32))
+        .collect())
 }
 
 /// What the vertical columns `whl_z_l`, `whl_z_r` hold.
@@ -73,11 +105,29 @@ pub fn emit_lcf(m: &Model, set: LoadSetId) -> Result<String, EmitError> {
 }
 
 pub fn emit_lcf_as(m: &Model, set: LoadSetId, vertical: &Vertical) -> Result<String, EmitError> {
+    emit_lcf_axle(m, set, vertical, None)
+}
+
+/// The loadcase file of the axle of wheel `axle` (with the wheel on the other
+/// side nearest its mirror image), or, without it, of the model's wheels (at
+/// most one a side). Loads on the other wheels are not written: the file is
+/// that axle's rig.
+pub fn emit_lcf_axle(
+    m: &Model,
+    set: LoadSetId,
+    vertical: &Vertical,
+    axle: Option<&str>,
+) -> Result<String, EmitError> {
     let ls = m.load_sets.get(set.index()).ok_or(EmitError::NoLoadSet)?;
-    // Side of each wheel: 0 left, 1 right.
-    let mut side_of = Vec::new();
+    let chosen: Vec<WheelId> = match axle {
+        Some(name) => axle_of(m, name)?,
+        None => (0..m.wheels.len() as u32).map(WheelId).collect(),
+    };
+    // Side of each wheel written: 0 left, 1 right; `None` for the others.
+    let mut side_of: Vec<Option<usize>> = vec![None; m.wheels.len()];
     let mut taken: [Option<&str>; 2] = [None, None];
-    for w in &m.wheels {
+    for &id in &chosen {
+        let w = &m.wheels[id.index()];
         let side = usize::from(m.marker(w.centre).origin().y < 0.0);
         if let Some(other) = taken[side] {
             return Err(EmitError::WheelSide {
@@ -86,11 +136,14 @@ pub fn emit_lcf_as(m: &Model, set: LoadSetId, vertical: &Vertical) -> Result<Str
             });
         }
         taken[side] = Some(&w.name);
-        side_of.push(side);
+        side_of[id.index()] = Some(side);
     }
+    // Per channel: its side (none: another axle's wheel) and whether it is a
+    // drive force at the centre.
     let mut targets = Vec::new();
     for ch in &ls.channels {
-        targets.push(side_of[wheel_of(m, ls, ch)?.index()]);
+        let (w, drive) = wheel_of(m, ls, ch)?;
+        targets.push((side_of[w.index()], drive));
     }
     let mut o = String::new();
     let bar = |o: &mut String, t: &str| o.push_str(&format!("${}{t}\n", "-".repeat(79 - t.len())));
@@ -129,9 +182,11 @@ pub fn emit_lcf_as(m: &Model, set: LoadSetId, vertical: &Vertical) -> Result<Str
     } else {
         "$   whl_z = fz, lat = fy, brake = -fx (positive toward the rear),\n"
     });
-    o.push_str("$   align = mz, otm = mx, rollres = my; damage, drive and steer are 0.\n");
+    o.push_str("$   align = mz, otm = mx, rollres = my, drive = fx at the wheel centre;\n$   damage and steer are 0.\n");
     for (w, s) in m.wheels.iter().zip(&side_of) {
-        o.push_str(&format!("$ {} wheel: {}\n", ["left", "right"][*s], w.name));
+        if let Some(s) = s {
+            o.push_str(&format!("$ {} wheel: {}\n", ["left", "right"][*s], w.name));
+        }
     }
     // A half axle has one side: zeros on the other would ask Adams/Car for a
     // 0 mm wheel-centre height and no load; its mirror image is what a
@@ -153,14 +208,19 @@ pub fn emit_lcf_as(m: &Model, set: LoadSetId, vertical: &Vertical) -> Result<Str
     o.push_str(&format!("{{ {} }}\n", COLUMNS.join("  ")));
     for (k, case) in ls.cases.iter().enumerate() {
         let mut row = [0.0f64; 19];
-        for ((ch, v), side) in ls.channels.iter().zip(&case.values).zip(&targets) {
+        for ((ch, v), &(side, drive)) in ls.channels.iter().zip(&case.values).zip(&targets) {
             if !v.is_finite() {
                 return Err(EmitError::NotFinite {
                     element: format!("load case `{}`", case.name),
                     what: "a load".into(),
                 });
             }
+            let Some(side) = side else {
+                continue;
+            };
             let (col, val) = match ch.component {
+                // `wheel_of` takes only fx at a centre.
+                _ if drive => (12, *v),
                 // In height mode the vertical columns are heights, set below.
                 Component::Fz if heights.is_some() => continue,
                 Component::Fz => (0, *v),
@@ -175,6 +235,9 @@ pub fn emit_lcf_as(m: &Model, set: LoadSetId, vertical: &Vertical) -> Result<Str
         if let Some(h) = heights {
             let hk = h.get(k).ok_or(EmitError::NoLoadSet)?;
             for (w, side) in hk.iter().zip(&side_of) {
+                let Some(side) = side else {
+                    continue;
+                };
                 if !w.is_finite() {
                     return Err(EmitError::NotFinite {
                         element: format!("load case `{}`", case.name),

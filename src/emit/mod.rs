@@ -14,7 +14,7 @@ pub mod writer;
 pub use acf::emit_acf;
 pub use adm::{Deck, emit_adm};
 pub use error::EmitError;
-pub use lcf::{Vertical, emit_lcf, emit_lcf_as};
+pub use lcf::{Vertical, emit_lcf, emit_lcf_as, emit_lcf_axle};
 
 use crate::model::{LoadSetId, Model};
 
