@@ -127,6 +127,12 @@ pub(crate) fn newton(
     for it in 0..MAX_ITERATIONS {
         let (ef, ec) = sv.ws.errors(p);
         if ef < FORCE_TOL && ec < CONSTRAINT_TOL {
+            if sv.predict {
+                // Converged at the start, evaluated without its matrix: the
+                // caller's checks need the equilibrium's.
+                sv.ws.eval(p, st, loads, true).map_err(fatal)?;
+                sv.ws.release(homotopy);
+            }
             return Ok(it);
         }
         for i in 0..n {
@@ -139,11 +145,15 @@ pub(crate) fn newton(
         // A step with the factorisation at hand (at the start of a solve, the
         // tangent at the previous equilibrium: a linear predictor for the new
         // load). Anything doubtful falls back on a fresh factorisation below.
+        // The caller evaluated the start without its Newton matrix when it
+        // asked for a prediction (the matrix is then not needed).
         let predicted = std::mem::take(&mut sv.predict);
-        if predicted && sv.lu.dim() == n + m && sv.lu.solve(&mut sv.x) {
-            let biggest = sv.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            if biggest <= 0.5 * p.length && line_search(p, loads, st, force, homotopy, sv) {
-                continue;
+        if predicted {
+            if sv.lu.dim() == n + m && sv.lu.solve(&mut sv.x) {
+                let biggest = sv.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                if biggest <= 0.5 * p.length && line_search(p, loads, st, force, homotopy, sv) {
+                    continue;
+                }
             }
             // Back to the state this iteration started from, and a Newton step.
             sv.ws.eval(p, st, loads, true).map_err(fatal)?;
