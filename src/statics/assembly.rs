@@ -4,7 +4,7 @@
 //! [`super::newton`] for the scaling and the loop that uses them).
 
 use super::Problem;
-use super::constraint::{evaluate_at, is_length, joint_markers};
+use super::constraint::{evaluate_into, is_length, joint_markers};
 use super::coords::{MarkerKin, State};
 use super::error::StaticsError;
 use super::forces::{for_each_element, point_load};
@@ -132,9 +132,17 @@ impl Workspace {
             inside: &mut bool,
         ) {
             w.each_force(|i, v| r[i] += lam * v * scale[i]);
-            if !tangent {
-                return;
+            if tangent {
+                add_tangent(w, lam, a, scale, inside);
             }
+        }
+        fn add_tangent(
+            w: &Wrench,
+            lam: f64,
+            a: &mut NewtonMatrix,
+            scale: &[f64],
+            inside: &mut bool,
+        ) {
             match a {
                 // Column by column: one bounds check per column of a block
                 // (the products in the order of the entry-wise sum before).
@@ -183,6 +191,7 @@ impl Workspace {
         }
         // A joint's equations are consecutive and share its marker frames.
         let mut frames: Option<(JointId, MarkerKin, MarkerKin)> = None;
+        let mut w = Wrench::new(None, None, Vec3::zeros(), Vec3::zeros());
         for (idx, &e) in p.kept.iter().enumerate() {
             let lam = st.lambda.get(idx).copied().unwrap_or(0.0);
             let eq = &p.equations[e];
@@ -194,13 +203,16 @@ impl Workspace {
                     (mi, mj)
                 }
             };
-            let (v, w) = evaluate_at(&mi, &mj, eq.primitive);
+            let v = evaluate_into(&mi, &mj, eq.primitive, &mut w);
             // The gradient row with rotation columns times the length, as in
-            // `redundancy::scaled_jacobian` (at most 12 entries).
+            // `redundancy::scaled_jacobian` (at most 12 entries), and the
+            // generalised force it scales (computed once for both uses).
             let mut grad = [(0usize, 0.0f64); 12];
+            let mut raw = [0.0f64; 12];
             let mut len = 0;
             w.each_force(|i, g| {
                 grad[len] = (i, g * scale[i]);
+                raw[len] = g;
                 len += 1;
             });
             let norm = grad[..len].iter().map(|(_, g)| g * g).sum::<f64>().sqrt();
@@ -235,7 +247,13 @@ impl Workspace {
                     }
                 }
             }
-            add(&w, lam, r, a, tangent, scale, &mut inside);
+            // `add` of the unit reaction times λ, from the force computed above.
+            for (&(i, _), v) in grad[..len].iter().zip(&raw) {
+                r[i] += lam * v * scale[i];
+            }
+            if tangent {
+                add_tangent(&w, lam, a, scale, &mut inside);
+            }
         }
         Ok(inside)
     }

@@ -61,19 +61,27 @@ pub fn joint_markers(
 /// [`evaluate`] with the joint's marker frames at hand (a joint's equations
 /// share them).
 pub fn evaluate_at(mi: &MarkerKin, mj: &MarkerKin, primitive: Primitive) -> (f64, Wrench) {
+    let mut w = Wrench::new(None, None, Vec3::zeros(), Vec3::zeros());
+    let v = evaluate_into(mi, mj, primitive, &mut w);
+    (v, w)
+}
+
+/// [`evaluate_at`] into a wrench kept by the caller (refilled in place, see
+/// [`Wrench::reset`]); returns the value of the equation.
+pub fn evaluate_into(mi: &MarkerKin, mj: &MarkerKin, primitive: Primitive, w: &mut Wrench) -> f64 {
     let d = mi.p - mj.p;
     match primitive {
         Primitive::Coincident(k) => {
             let e = Vec3::ith(k.index(), 1.0);
-            let mut w = Wrench::new(mi.block, mj.block, mi.r, mj.r);
+            w.reset(mi.block, mj.block, mi.r, mj.r);
             w.g = e;
-            (d[k.index()], w)
+            d[k.index()]
         }
         Primitive::InPlane(b) => {
             // The normal turns with J, and the reaction acts at p_I on both parts.
             let a: Vec3 = mj.axes.column(b.index()).into();
             let rho = mi.p - mj.x;
-            let mut w = Wrench::new(mi.block, mj.block, mi.r, rho);
+            w.reset(mi.block, mj.block, mi.r, rho);
             w.g = a;
             w.dg = d_axis_j(&a);
             w.drho = d_point_i(&mi.r)
@@ -83,12 +91,12 @@ pub fn evaluate_at(mi: &MarkerKin, mj: &MarkerKin, primitive: Primitive) -> (f64
                     Mat3::identity(),
                     Mat3::zeros(),
                 ]);
-            (a.dot(&d), w)
+            a.dot(&d)
         }
         Primitive::Perpendicular(pa, pb) => {
             let a: Vec3 = mi.axes.column(pa.index()).into();
             let b: Vec3 = mj.axes.column(pb.index()).into();
-            let mut w = Wrench::new(mi.block, mj.block, mi.r, mj.r);
+            w.reset(mi.block, mj.block, mi.r, mj.r);
             w.m = a.cross(&b);
             // d(a × b) = (theta_I × a) × b + a × (theta_J × b).
             w.dm = blocks([
@@ -97,7 +105,7 @@ pub fn evaluate_at(mi: &MarkerKin, mj: &MarkerKin, primitive: Primitive) -> (f64
                 Mat3::zeros(),
                 -skew(&a) * skew(&b),
             ]);
-            (a.dot(&b), w)
+            a.dot(&b)
         }
     }
 }

@@ -277,8 +277,10 @@ pub(crate) fn solve_reusing(
         state.lambda = vec![0.0; m];
     }
     // The first full step starts from this evaluation, which also gives the
-    // element forces of the force scale.
-    sv.ws.eval(problem, &state, loads, true)?;
+    // element forces of the force scale. A predicted first step does not use
+    // the Newton matrix at the start (Newton evaluates it if the prediction
+    // fails).
+    sv.ws.eval(problem, &state, loads, !sv.predict)?;
     let force = force_scale(problem, loads, start, sv.ws.element_scale);
     let from = start.loads.clone();
     // The start's own residual, needed only once a sub-step is taken.

@@ -127,6 +127,12 @@ pub(crate) fn newton(
     for it in 0..MAX_ITERATIONS {
         let (ef, ec) = sv.ws.errors(p);
         if ef < FORCE_TOL && ec < CONSTRAINT_TOL {
+            if sv.predict {
+                // Converged at the start, evaluated without its matrix: the
+                // caller's checks need the equilibrium's.
+                sv.ws.eval(p, st, loads, true).map_err(fatal)?;
+                sv.ws.release(homotopy);
+            }
             return Ok(it);
         }
         for i in 0..n {
@@ -139,11 +145,15 @@ pub(crate) fn newton(
         // A step with the factorisation at hand (at the start of a solve, the
         // tangent at the previous equilibrium: a linear predictor for the new
         // load). Anything doubtful falls back on a fresh factorisation below.
+        // The caller evaluated the start without its Newton matrix when it
+        // asked for a prediction (the matrix is then not needed).
         let predicted = std::mem::take(&mut sv.predict);
-        if predicted && sv.lu.dim() == n + m && sv.lu.solve(&mut sv.x) {
-            let biggest = sv.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            if biggest <= 0.5 * p.length && line_search(p, loads, st, force, homotopy, sv) {
-                continue;
+        if predicted {
+            if sv.lu.dim() == n + m && sv.lu.solve(&mut sv.x) {
+                let biggest = sv.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                if biggest <= 0.5 * p.length && line_search(p, loads, st, force, homotopy, sv) {
+                    continue;
+                }
             }
             // Back to the state this iteration started from, and a Newton step.
             sv.ws.eval(p, st, loads, true).map_err(fatal)?;
@@ -348,6 +358,53 @@ mod tests {
             force: Vec3::new(fx, fy, fz),
             torque: Vec3::zeros(),
         }]
+    }
+
+    /// A case that starts at its own equilibrium converges at the start,
+    /// where its first evaluation skipped the Newton matrix (a prediction was
+    /// due); the solver must still end with the equilibrium's matrix (for the
+    /// singularity check and the next case's prediction), not the previous
+    /// case's. The second case adds a self-balanced pair of forces along the
+    /// upright's L7-L8 line: no net force or moment, but a load stiffness, so
+    /// the two matrices differ.
+    #[test]
+    fn a_case_converged_at_its_start_ends_with_its_own_newton_matrix() {
+        let m = mcpherson();
+        let p = Problem::new(&m).expect("problem");
+        let first = wheel_load(&m, 500.0, -800.0, 3500.0);
+        let mut buffers = None;
+        let eq = crate::statics::solve_reusing(&p, &first, &State::design(&m), &mut buffers)
+            .expect("first case");
+        let up = m.part_named("upright").expect("upright");
+        let at = |name: &str| {
+            let id = m.marker_named(up, name).expect("marker");
+            (
+                id,
+                super::super::coords::marker_kin(&m, &p.layout, &eq.state, id).p,
+            )
+        };
+        let ((l7, p7), (l8, p8)) = (at("L7"), at("L8"));
+        let f = (p8 - p7).normalize() * 2000.0;
+        let mut second = first.clone();
+        for (marker, force) in [(l7, f), (l8, -f)] {
+            second.push(PointLoad {
+                marker,
+                force,
+                torque: Vec3::zeros(),
+            });
+        }
+        let eq2 = crate::statics::solve_reusing(&p, &second, &eq.state, &mut buffers)
+            .expect("second case");
+        assert_eq!(eq2.iterations, 0, "converged at the start");
+        let fresh = |loads: &[PointLoad]| {
+            let mut ws = Workspace::new(&p);
+            ws.eval(&p, &eq.state, loads, true).expect("evaluates");
+            ws.matrix()
+        };
+        let (own, previous) = (fresh(&second), fresh(&first));
+        let held = buffers.as_ref().expect("solver").ws.matrix();
+        assert!((&own - &previous).amax() > 1e-3, "the pair adds stiffness");
+        assert_eq!(held, own);
     }
 
     /// A NaN in the residual (an element force undefined at a state) or an

@@ -89,6 +89,28 @@ impl Wrench {
         }
     }
 
+    /// Makes this wrench [`Wrench::new`]'s, in place (a wrench is over a
+    /// kilobyte: the assembly refills one per joint equation rather than
+    /// moving a new one).
+    pub fn reset(&mut self, i: Option<usize>, j: Option<usize>, r_i: Vec3, rho: Vec3) {
+        self.i = i;
+        self.j = j;
+        self.g = Vec3::zeros();
+        self.m = Vec3::zeros();
+        self.r_i = r_i;
+        self.rho = rho;
+        self.dg.fill(0.0);
+        self.dm.fill(0.0);
+        self.dr_i.fill(0.0);
+        self.dr_i
+            .fixed_view_mut::<3, 3>(0, 3)
+            .copy_from(&-skew(&r_i));
+        self.drho.fill(0.0);
+        self.drho
+            .fixed_view_mut::<3, 3>(0, 9)
+            .copy_from(&-skew(&rho));
+    }
+
     /// The generalised force on `[I; J]`.
     pub fn generalized(&self) -> V12 {
         let mut q = V12::zeros();
