@@ -5,26 +5,13 @@
 //! bushings store (virtual work); the twist beam's wheel rate and roll
 //! stiffness are the hand calculation from its springs, pivots and beam.
 
-use axle::check::check_str;
 use axle::geom::{Mat3, Vec3};
 use axle::model::Model;
 use axle::statics::{self, Equilibrium};
 
-fn checked(name: &str, text: &str) -> Model {
-    let (_, c) = check_str(name, text);
-    assert!(!c.problems.has_errors(), "{:?}", c.problems);
-    c.model.expect("checks clean")
-}
+mod common;
 
-fn example(file: &str) -> Model {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(file);
-    checked(file, &std::fs::read_to_string(&path).expect("readable"))
-}
-
-fn solve(m: &Model, set: &str) -> Vec<Equilibrium> {
-    let id = m.load_set_named(set).expect("the set exists");
-    statics::solve_set(m, id).expect("solves")
-}
+use common::{checked, example, solve};
 
 fn pose(m: &Model, e: &Equilibrium, part: &str) -> (Vec3, Mat3) {
     e.state

@@ -4,27 +4,12 @@
 //! pair front with front and rear with rear; and the rear axle's roll
 //! stiffness (opposed travel) must follow from its parallel-travel metrics.
 
-use axle::check::check_str;
 use axle::model::Model;
 use axle::statics::{self, Equilibrium};
 
 mod common;
 
-fn checked(name: &str, text: &str) -> Model {
-    let (_, c) = check_str(name, text);
-    assert!(!c.problems.has_errors(), "{:?}", c.problems);
-    c.model.expect("checks clean")
-}
-
-fn example(file: &str) -> Model {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(file);
-    checked(file, &std::fs::read_to_string(&path).expect("readable"))
-}
-
-fn solve(m: &Model, set: &str) -> Vec<Equilibrium> {
-    let id = m.load_set_named(set).expect("the set exists");
-    statics::solve_set(m, id).expect("solves")
-}
+use common::{checked, example, solve};
 
 fn metrics(m: &Model, set: &str) -> Vec<axle::kc::AxleMetrics> {
     let id = m.load_set_named(set).expect("set");

@@ -50,3 +50,22 @@ pub fn landmark_files(
         .collect();
     (csv, iges)
 }
+
+/// A model from source that must check clean.
+pub fn checked(name: &str, text: &str) -> axle::model::Model {
+    let (_, c) = axle::check::check_str(name, text);
+    assert!(!c.problems.has_errors(), "{:?}", c.problems);
+    c.model.expect("checks clean")
+}
+
+/// A file of the repository (`examples/front_axle.axle`), checked.
+pub fn example(file: &str) -> axle::model::Model {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(file);
+    checked(file, &std::fs::read_to_string(&path).expect("readable"))
+}
+
+/// A load set of the model solved along its path, from design.
+pub fn solve(m: &axle::model::Model, set: &str) -> Vec<axle::statics::Equilibrium> {
+    let id = m.load_set_named(set).expect("the set exists");
+    axle::statics::solve_set(m, id).expect("solves")
+}
