@@ -37,7 +37,7 @@ pub fn without(model: &Model, names: &[String]) -> Result<Model, Diagnostic> {
             // The free length is kept: with no rate and no preload it gives
             // no force, and the checker's rule (positive) still holds.
             let free_length = match &s.law {
-                SpringLaw::Linear { free_length, .. } => free_length.clone(),
+                SpringLaw::Linear { free_length, .. } => *free_length,
                 SpringLaw::Table(_) => Val::lit(1.0),
             };
             s.law = SpringLaw::Linear {
