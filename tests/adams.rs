@@ -208,6 +208,18 @@ fn an_lcf_of_a_car_is_one_axles_and_traction_is_the_drive_column() {
         (braking[0], braking[1], braking[10], braking[11]),
         (2500.0, 2500.0, 1500.0, 1500.0)
     );
+    // A misspelt wheel gets its did-you-mean.
+    let e = emit_lcf_axle(
+        car,
+        load_set(car, Some("vehicle")).expect("set"),
+        &Vertical::Force,
+        Some("rear_rigth.wheel"),
+    )
+    .expect_err("no such wheel");
+    assert!(
+        e.to_string().ends_with("did you mean `rear_right.wheel`?"),
+        "{e}"
+    );
     // Without --axle the car is refused, naming the way out.
     let e = emit_lcf(car, load_set(car, Some("vehicle")).expect("set")).expect_err("four wheels");
     assert!(e.to_string().contains("--axle"), "{e}");

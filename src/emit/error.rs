@@ -57,11 +57,20 @@ impl fmt::Display for EmitError {
                 f,
                 "wheels `{other}` and `{wheel}` are on the same side; an Adams/Car loadcase file has one left and one right wheel (give `--axle {other}` to write the file of its axle)"
             ),
-            EmitError::UnknownWheel { name, known } => write!(
-                f,
-                "--axle `{name}`: the model has no wheel of that name (its wheels: {})",
-                known.join(", ")
-            ),
+            EmitError::UnknownWheel { name, known } => {
+                write!(
+                    f,
+                    "--axle `{name}`: the model has no wheel of that name (its wheels: {})",
+                    known.join(", ")
+                )?;
+                match crate::diagnostic::suggest::did_you_mean(
+                    name,
+                    known.iter().map(String::as_str),
+                ) {
+                    Some(h) => write!(f, "; {h}"),
+                    None => Ok(()),
+                }
+            }
             EmitError::UnknownLoadSet { name, known } => write!(
                 f,
                 "no load set `{name}` (known: {})",
