@@ -250,16 +250,7 @@ fn lcf_height_mode_writes_the_solved_wheel_centre_heights() {
         text.contains("VERTICAL_MODE  =  'wheel_center_height'"),
         "{text}"
     );
-    let rows: Vec<Vec<f64>> = text
-        .lines()
-        .skip_while(|l| !l.starts_with("{ whl_z_l"))
-        .skip(1)
-        .map(|l| {
-            l.split_whitespace()
-                .filter_map(|x| x.parse().ok())
-                .collect()
-        })
-        .collect();
+    let rows = lcf_rows(&text);
     assert_eq!(rows.len(), 13);
     // Independently: the same set solved case by case from the previous state.
     let p = Problem::new(&m).expect("problem");

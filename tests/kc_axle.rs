@@ -251,12 +251,10 @@ fn roll_stiffness_without_the_bar_is_the_file_with_a_bar_of_zero_rate() {
     let bar = "instance bar = anti_roll_bar(k_torsion = 15000 N*mm/deg)";
     assert!(text.contains(bar), "the example's bar line");
     let zero = text.replace(bar, "instance bar = anti_roll_bar(k_torsion = 0 N*mm/deg)");
-    let check = |t: &str| {
-        let (_, c) = check_str("front_axle.axle", t);
-        assert!(!c.problems.has_errors(), "{:?}", c.problems);
-        c.model.expect("checks")
-    };
-    let (with, edited) = (check(&text), check(&zero));
+    let (with, edited) = (
+        common::checked("front_axle.axle", &text),
+        common::checked("front_axle.axle", &zero),
+    );
     let bare = axle::kc::without::without(&with, &["bar.torsion".to_string()]).expect("exists");
     let k_with = metrics(&with, "roll").roll_stiffness.expect("roll");
     let k_bare = metrics(&bare, "roll").roll_stiffness.expect("roll");
@@ -265,6 +263,17 @@ fn roll_stiffness_without_the_bar_is_the_file_with_a_bar_of_zero_rate() {
     assert!(k_bare < 0.6 * k_with, "{k_bare} against {k_with}");
 
     // Through the binary: table, JSON, and what is refused.
+    let without = |sweep: &str, elements: &[&str]| {
+        let mut args = vec![
+            "kc",
+            "examples/front_axle.axle",
+            "--sweep",
+            sweep,
+            "--without",
+        ];
+        args.extend_from_slice(elements);
+        common::axle(&args)
+    };
     let (code, out, err) = common::axle(&[
         "kc",
         "examples/front_axle.axle",
@@ -285,36 +294,15 @@ fn roll_stiffness_without_the_bar_is_the_file_with_a_bar_of_zero_rate() {
         k_edited,
         1e-6,
     );
-    let (code, _, err) = common::axle(&[
-        "kc",
-        "examples/front_axle.axle",
-        "--sweep",
-        "roll",
-        "--without",
-        "bar.mount_left",
-    ]);
+    let (code, _, err) = without("roll", &["bar.mount_left"]);
     assert_eq!(code, 2);
     assert!(err.contains("E0812") && err.contains("is a joint"), "{err}");
-    let (code, _, err) = common::axle(&[
-        "kc",
-        "examples/front_axle.axle",
-        "--sweep",
-        "parallel_bump",
-        "--without",
-        "bar.torsion",
-    ]);
+    let (code, _, err) = without("parallel_bump", &["bar.torsion"]);
     assert_eq!(code, 0);
     assert!(err.contains("W0812"), "{err}");
     // Without its top mount the left strut turns freely about its axis:
     // the solver's error names it, in the model without the mount.
-    let (code, _, err) = common::axle(&[
-        "kc",
-        "examples/front_axle.axle",
-        "--sweep",
-        "roll",
-        "--without",
-        "front_left.F",
-    ]);
+    let (code, _, err) = without("roll", &["front_left.F"]);
     assert_eq!(code, 1, "{err}");
     assert!(
         err.contains("E1003")
@@ -325,15 +313,7 @@ fn roll_stiffness_without_the_bar_is_the_file_with_a_bar_of_zero_rate() {
     // Without the springs the wheels ride up (152 mm) until the arm
     // bushings carry the load: the figure comes with a warning that it is
     // another ride height's.
-    let (code, _, err) = common::axle(&[
-        "kc",
-        "examples/front_axle.axle",
-        "--sweep",
-        "roll",
-        "--without",
-        "front_left.spring",
-        "front_right.spring",
-    ]);
+    let (code, _, err) = without("roll", &["front_left.spring", "front_right.spring"]);
     assert_eq!(code, 0, "{err}");
     assert!(
         err.contains("W0813") && err.contains("mm higher at the reference step"),

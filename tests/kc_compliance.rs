@@ -7,7 +7,6 @@
 //! on the benchmark McPherson, and on the front axle by superposition: in
 //! phase plus opposed is twice the wheel loaded alone.
 
-use axle::check::check_str;
 use axle::kc::{ComplianceMetrics, Input, KcRow, Phase, compliance_metrics, kc_rows};
 use axle::model::Model;
 use axle::statics::{self, Equilibrium, Problem, compliance};
@@ -15,11 +14,7 @@ use nalgebra::Vector3;
 
 mod common;
 
-fn checked(name: &str, text: &str) -> Model {
-    let (_, c) = check_str(name, text);
-    assert!(!c.problems.has_errors(), "{:?}", c.problems);
-    c.model.expect("checks clean")
-}
+use common::checked;
 
 fn example(name: &str) -> String {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))

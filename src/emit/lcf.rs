@@ -65,8 +65,8 @@ fn wheel_of(m: &Model, set: &LoadSet, ch: &Channel) -> Result<(WheelId, bool), E
     }
 }
 
-/// The two wheels of the axle of wheel `name`: it and the wheel on the other
-/// side nearest its mirror image (design centres), as `kc` pairs them.
+/// The wheels of the axle of wheel `name`: its pair ([`Model::wheel_pairs`],
+/// as `kc` pairs them), or the wheel alone when it has no partner.
 fn axle_of(m: &Model, name: &str) -> Result<Vec<WheelId>, EmitError> {
     let Some(k) = m.wheels.iter().position(|w| w.name == name) else {
         return Err(EmitError::UnknownWheel {
@@ -74,19 +74,13 @@ fn axle_of(m: &Model, name: &str) -> Result<Vec<WheelId>, EmitError> {
             known: m.wheels.iter().map(|w| w.name.clone()).collect(),
         });
     };
-    let c = m.marker(m.wheels[k].centre).origin();
-    let mirror = nalgebra::Vector3::new(c.x, -c.y, c.z);
-    let other = (0..m.wheels.len())
-        .filter(|&j| j != k && (m.marker(m.wheels[j].centre).origin().y < 0.0) != (c.y < 0.0))
-        .min_by(|&a, &b| {
-            let d = |j: usize| (m.marker(m.wheels[j].centre).origin() - mirror).norm();
-            d(a).total_cmp(&d(b))
-        });
-    Ok([k]
-        .into_iter()
-        .chain(other)
-        .map(|j| WheelId(j as u32))
-        .collect())
+    let k = WheelId(k as u32);
+    Ok(
+        match m.wheel_pairs().into_iter().find(|&(l, r)| l == k || r == k) {
+            Some((l, r)) => vec![l, r],
+            None => vec![k],
+        },
+    )
 }
 
 /// What the vertical columns `whl_z_l`, `whl_z_r` hold.

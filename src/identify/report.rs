@@ -212,11 +212,18 @@ pub fn curves(
             vec![],
         ));
     }
+    // A report error names every wheel: none of them can be plotted.
     let all_wheels = || {
         (0..initial.wheels.len() as u32)
             .map(|w| ElementId::Wheel(WheelId(w)))
             .collect()
     };
+    let names = initial
+        .wheels
+        .iter()
+        .map(|w| format!("`{}`", w.name))
+        .collect::<Vec<_>>()
+        .join(" or ");
     let loads: Vec<Vec<(Vec3, Vec3)>> =
         initial.wheels.iter().map(|w| wheel_load(data, w)).collect();
     let loaded = |w: usize| {
@@ -225,16 +232,10 @@ pub fn curves(
             .any(|(f, t)| f.amax() != 0.0 || t.amax() != 0.0)
     };
     if !(0..loads.len()).any(loaded) {
-        let names: Vec<String> = initial
-            .wheels
-            .iter()
-            .map(|w| format!("`{}`", w.name))
-            .collect();
         return Err(IdentifyError::of(
             IdentifyErrorKind::Report,
             format!(
-                "the report plots against the load on a wheel, and no step loads the contact marker of {}",
-                names.join(" or ")
+                "the report plots against the load on a wheel, and no step loads the contact marker of {names}"
             ),
             all_wheels(),
         ));
@@ -250,16 +251,10 @@ pub fn curves(
         .collect();
     let plotted = |w: usize| loaded(w) && measured[w].iter().any(Option::is_some);
     if !(0..loads.len()).any(plotted) {
-        let names: Vec<String> = initial
-            .wheels
-            .iter()
-            .map(|w| format!("`{}`", w.name))
-            .collect();
         return Err(IdentifyError::of(
             IdentifyErrorKind::Report,
             format!(
-                "the report needs the measured toe and camber of a loaded wheel: give --kc, or landmarks on the part of {}",
-                names.join(" or ")
+                "the report needs the measured toe and camber of a loaded wheel: give --kc, or landmarks on the part of {names}"
             ),
             all_wheels(),
         ));

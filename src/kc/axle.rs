@@ -10,10 +10,9 @@
 //! right-handed about x, positive when the body's left side rises relative
 //! to the wheels (the left wheel drops, the right one rises).
 
-use super::wheel::{KcRow, WheelQuantities, wheel_quantities};
+use super::wheel::{KcRow, WheelQuantities};
 use crate::geom::Vec3;
 use crate::model::{Model, WheelId};
-use crate::statics::State;
 
 /// How the two wheels of an axle move along a load path.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -66,36 +65,10 @@ pub struct AxleMetrics {
     pub roll_stiffness_without: Option<(f64, Vec<String>)>,
 }
 
-/// The wheel pairs of a model: each wheel left of the plane of symmetry
-/// (design centre y > 0) with the right wheel nearest its mirror image,
-/// in declaration order of the left wheels.
+/// The wheel pairs of a model ([`Model::wheel_pairs`]: each left wheel with
+/// the right wheel nearest its mirror image).
 pub fn wheel_pairs(model: &Model) -> Vec<(WheelId, WheelId)> {
-    let design = State::design(model);
-    let centres: Vec<Vec3> = model
-        .wheels
-        .iter()
-        .map(|w| wheel_quantities(model, &design, w).center.into())
-        .collect();
-    let mut used = vec![false; centres.len()];
-    let mut pairs = Vec::new();
-    for (l, cl) in centres.iter().enumerate() {
-        if cl.y <= 0.0 {
-            continue;
-        }
-        let mirror = Vec3::new(cl.x, -cl.y, cl.z);
-        let best = (0..centres.len())
-            .filter(|&r| !used[r] && centres[r].y < 0.0)
-            .min_by(|&a, &b| {
-                (centres[a] - mirror)
-                    .norm()
-                    .total_cmp(&(centres[b] - mirror).norm())
-            });
-        if let Some(r) = best {
-            used[r] = true;
-            pairs.push((WheelId(l as u32), WheelId(r as u32)));
-        }
-    }
-    pairs
+    model.wheel_pairs()
 }
 
 /// The body's roll relative to an axle's wheels (deg): right-handed about x,

@@ -81,9 +81,8 @@ impl Input {
     /// The row's load in its wheel's own frame (N or N·mm): the global
     /// component, negated on a right wheel for a lateral force or a torque.
     pub fn own(self, r: &KcRow) -> f64 {
-        let right = r.quantities.center[1] < 0.0;
-        if self.mirrored() && right {
-            -self.global(r)
+        if self.mirrored() {
+            side(r) * self.global(r)
         } else {
             self.global(r)
         }
@@ -157,10 +156,11 @@ fn varies(v: &[f64]) -> bool {
 
 /// `+1` for a left wheel, `-1` for a right one: the side of its centre, as
 /// toe is signed (`super::wheel_quantities`).
-fn side(rows: &[&KcRow]) -> f64 {
-    match rows.first() {
-        Some(r) if r.quantities.center[1] < 0.0 => -1.0,
-        _ => 1.0,
+fn side(r: &KcRow) -> f64 {
+    if r.quantities.center[1] < 0.0 {
+        -1.0
+    } else {
+        1.0
     }
 }
 
@@ -186,7 +186,6 @@ fn swept_input(rows: &[&KcRow]) -> Option<Input> {
 /// neighbours), per unit of the wheel's own load; `None` when its load is
 /// the same at both (a second wheel that does not move in step there).
 fn slopes(input: Input, rows: &[&KcRow], a: usize, b: usize) -> Option<WheelCompliance> {
-    let s = side(rows);
     let load = |k: usize| input.own(rows[k]) * TO_SLOPE_UNIT;
     let dl = load(b) - load(a);
     if dl == 0.0 || !dl.is_finite() {
@@ -195,7 +194,7 @@ fn slopes(input: Input, rows: &[&KcRow], a: usize, b: usize) -> Option<WheelComp
     let q = |k: usize| &rows[k].quantities;
     let centre = match input {
         // Outboard: +y on the left, -y on the right.
-        Input::Lateral => Some(s * (q(b).center[1] - q(a).center[1]) / dl),
+        Input::Lateral => Some(side(rows[a]) * (q(b).center[1] - q(a).center[1]) / dl),
         Input::Braking | Input::Traction => Some((q(b).center[0] - q(a).center[0]) / dl),
         Input::AligningTorque => None,
     };

@@ -171,6 +171,38 @@ impl Model {
             .map(|i| LoadSetId(i as u32))
     }
 
+    /// The wheel pairs (axles) of the model: each wheel left of the plane of
+    /// symmetry (design centre y > 0) with the right wheel nearest its mirror
+    /// image, in declaration order of the left wheels. K&C metrics and the
+    /// Adams/Car loadcase file pair wheels by this one rule.
+    pub fn wheel_pairs(&self) -> Vec<(WheelId, WheelId)> {
+        let centres: Vec<Vec3> = self
+            .wheels
+            .iter()
+            .map(|w| self.marker(w.centre).origin())
+            .collect();
+        let mut used = vec![false; centres.len()];
+        let mut pairs = Vec::new();
+        for (l, cl) in centres.iter().enumerate() {
+            if cl.y <= 0.0 {
+                continue;
+            }
+            let mirror = Vec3::new(cl.x, -cl.y, cl.z);
+            let best = (0..centres.len())
+                .filter(|&r| !used[r] && centres[r].y < 0.0)
+                .min_by(|&a, &b| {
+                    (centres[a] - mirror)
+                        .norm()
+                        .total_cmp(&(centres[b] - mirror).norm())
+                });
+            if let Some(r) = best {
+                used[r] = true;
+                pairs.push((WheelId(l as u32), WheelId(r as u32)));
+            }
+        }
+        pairs
+    }
+
     /// `part.marker`, as diagnostics and reports write a marker.
     pub fn marker_path(&self, id: MarkerId) -> String {
         let m = self.marker(id);

@@ -66,6 +66,12 @@ fn arm_turning(c: usize, r: &Vec3) -> M3x12 {
     m
 }
 
+/// [`arm_turning`] written over `m`.
+fn set_arm_turning(m: &mut M3x12, c: usize, r: &Vec3) {
+    m.fill(0.0);
+    m.fixed_view_mut::<3, 3>(0, c).copy_from(&-skew(r));
+}
+
 /// The 3×3 block of `m` at columns `c..c + 3`, unless all its entries are zero.
 fn nonzero_block(m: &M3x12, c: usize) -> Option<Mat3> {
     let b: Mat3 = m.fixed_view::<3, 3>(0, c).into_owned();
@@ -101,14 +107,8 @@ impl Wrench {
         self.rho = rho;
         self.dg.fill(0.0);
         self.dm.fill(0.0);
-        self.dr_i.fill(0.0);
-        self.dr_i
-            .fixed_view_mut::<3, 3>(0, 3)
-            .copy_from(&-skew(&r_i));
-        self.drho.fill(0.0);
-        self.drho
-            .fixed_view_mut::<3, 3>(0, 9)
-            .copy_from(&-skew(&rho));
+        set_arm_turning(&mut self.dr_i, 3, &r_i);
+        set_arm_turning(&mut self.drho, 9, &rho);
     }
 
     /// The generalised force on `[I; J]`.
