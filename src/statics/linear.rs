@@ -270,6 +270,28 @@ impl Lu {
         d.iter().sum::<f64>().sqrt() / self.a_fro
     }
 
+    /// Adds `(b - A) y` to `out`, `A` the matrix last factorised (within its
+    /// blocks: entries outside them are zero by structure in both).
+    pub fn add_difference_times(&self, b: &Mat<f64>, y: &[f64], out: &mut [f64]) {
+        if !self.blocks.is_empty() {
+            for blk in &self.blocks {
+                for (c, &j) in blk.idx.iter().enumerate() {
+                    let (x, col) = (blk.a.col_as_slice(c), b.col_as_slice(j));
+                    for (xi, &i) in x.iter().zip(&blk.idx) {
+                        out[i] += (col[i] - xi) * y[j];
+                    }
+                }
+            }
+            return;
+        }
+        for (j, yj) in y.iter().enumerate() {
+            let (x, col) = (self.a.col_as_slice(j), b.col_as_slice(j));
+            for (o, (xi, bi)) in out.iter_mut().zip(x.iter().zip(col)) {
+                *o += (bi - xi) * yj;
+            }
+        }
+    }
+
     /// An estimate of `σ_min / σ_max` of the factorised matrix from above (it
     /// may overstate the ratio, by a small factor for any matrix met in
     /// practice): `1 / (‖A‖_F · ‖A⁻¹ y‖)` after two inverse iterations.
@@ -283,6 +305,17 @@ impl Lu {
     }
 }
 
+/// A start vector of irregular signs and sizes for the power and inverse
+/// iterations: no structure of a mechanism lines up with it.
+pub(crate) fn irregular_start(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| {
+            let t = (i as f64 + 1.0) * 0.618_033_988_749_895;
+            (t - t.floor()) - 0.5
+        })
+        .collect()
+}
+
 /// `1 / (‖A‖_F · ‖A⁻¹ y‖)` after two inverse iterations with `solve` from a
 /// fixed irregular start: the estimate of [`Lu::reciprocal_condition`] for
 /// any factorisation of an `n`×`n` matrix of Frobenius norm `a_fro`.
@@ -294,13 +327,7 @@ pub(crate) fn inverse_iteration(
     if n == 0 {
         return 0.0;
     }
-    // Irregular signs and sizes: no structure of a mechanism lines up with it.
-    let mut y: Vec<f64> = (0..n)
-        .map(|i| {
-            let t = (i as f64 + 1.0) * 0.618_033_988_749_895;
-            (t - t.floor()) - 0.5
-        })
-        .collect();
+    let mut y = irregular_start(n);
     let mut growth = 0.0f64;
     for _ in 0..2 {
         let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();

@@ -58,6 +58,9 @@ pub(crate) struct Solver {
     pub predict: bool,
     /// Factorisations since the start of the solve.
     pub factorizations: usize,
+    /// The estimate `lu.reciprocal_condition()` of the current
+    /// factorisation, once computed.
+    rcond: Option<f64>,
     /// Where the last successful solve with these buffers ended.
     pub ended_at: Option<State>,
     /// Load (sub-)step attempts this solve may still take (a path's budget,
@@ -79,6 +82,7 @@ impl Solver {
             factored: false,
             predict: false,
             factorizations: 0,
+            rcond: None,
             ended_at: None,
             attempts_left: None,
             x: vec![0.0; n + m],
@@ -86,6 +90,24 @@ impl Solver {
             dq: DVector::zeros(n),
             trial: st.clone(),
         }
+    }
+}
+
+impl Solver {
+    /// Factorises the workspace's Newton matrix; false if a pivot is zero or
+    /// not finite.
+    pub fn factor_matrix(&mut self) -> bool {
+        self.factorizations += 1;
+        self.rcond = None;
+        self.lu.factor(&self.ws.a)
+    }
+
+    /// The reciprocal condition estimate of the current factorisation
+    /// (two solves; computed once per factorisation).
+    pub fn reciprocal_condition(&mut self) -> f64 {
+        *self
+            .rcond
+            .get_or_insert_with(|| self.lu.reciprocal_condition())
     }
 }
 
@@ -160,16 +182,15 @@ pub(crate) fn newton(
             sv.ws.release(homotopy);
             sv.x.copy_from_slice(&sv.b);
         }
-        let mut solved = sv.lu.factor(&sv.ws.a)
-            && sv.lu.solve(&mut sv.x)
-            && sv.lu.satisfies(&sv.ws.a, &sv.x, &sv.b);
+        let mut solved =
+            sv.factor_matrix() && sv.lu.solve(&mut sv.x) && sv.lu.satisfies(&sv.ws.a, &sv.x, &sv.b);
         sv.factored = true;
-        sv.factorizations += 1;
         // Pivots reused from an earlier matrix passed their threshold but gave
         // a solution the residual check refused: pivot afresh before taking
         // the matrix for singular.
         if !solved && let Some(ok) = sv.lu.factor_afresh(&sv.ws.a) {
             sv.factorizations += 1;
+            sv.rcond = None;
             sv.x.copy_from_slice(&sv.b);
             solved = ok && sv.lu.solve(&mut sv.x) && sv.lu.satisfies(&sv.ws.a, &sv.x, &sv.b);
         }

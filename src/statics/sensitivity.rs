@@ -295,10 +295,9 @@ fn solve_refined(sv: &mut Solver, b: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     if res <= 1e-13 * (b.amax() + a.amax() * x.amax()) * nn as f64 {
         return Some(x);
     }
-    if !sv.lu.factor(&sv.ws.a) {
+    if !sv.factor_matrix() {
         return None;
     }
-    sv.factorizations += 1;
     let mut x = b.clone();
     lu_solve(sv, &mut x).then_some(x)
 }

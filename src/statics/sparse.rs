@@ -232,14 +232,14 @@ impl SparseLu {
                     x[self.pos[k]] = self.a[k];
                 }
                 let (us, ud) = (f.u_ptr[j], f.u_ptr[j + 1] - 1);
-                for t in us..ud {
-                    let i = f.u_idx[t];
+                for (&i, u) in f.u_idx[us..ud].iter().zip(&mut f.u_val[us..ud]) {
                     let ui = x[i];
                     x[i] = 0.0;
-                    f.u_val[t] = ui;
+                    *u = ui;
                     if ui != 0.0 {
-                        for s in f.l_ptr[i] + 1..f.l_ptr[i + 1] {
-                            x[f.l_idx[s]] -= f.l_val[s] * ui;
+                        let col = f.l_ptr[i] + 1..f.l_ptr[i + 1];
+                        for (&r, l) in f.l_idx[col.clone()].iter().zip(&f.l_val[col]) {
+                            x[r] -= l * ui;
                         }
                     }
                 }
@@ -254,9 +254,8 @@ impl SparseLu {
                     break 'cols false;
                 }
                 f.u_val[ud] = piv;
-                for s in ls..le {
-                    let i = f.l_idx[s];
-                    f.l_val[s] = x[i] / piv;
+                for (&i, l) in f.l_idx[ls..le].iter().zip(&mut f.l_val[ls..le]) {
+                    *l = x[i] / piv;
                     x[i] = 0.0;
                 }
             }
@@ -279,8 +278,9 @@ impl SparseLu {
         for j in 0..n {
             let yj = y[j];
             if yj != 0.0 {
-                for s in f.l_ptr[j] + 1..f.l_ptr[j + 1] {
-                    y[f.l_idx[s]] -= f.l_val[s] * yj;
+                let col = f.l_ptr[j] + 1..f.l_ptr[j + 1];
+                for (&r, l) in f.l_idx[col.clone()].iter().zip(&f.l_val[col]) {
+                    y[r] -= l * yj;
                 }
             }
         }
@@ -289,8 +289,9 @@ impl SparseLu {
             y[j] /= f.u_val[d];
             let yj = y[j];
             if yj != 0.0 {
-                for t in f.u_ptr[j]..d {
-                    y[f.u_idx[t]] -= f.u_val[t] * yj;
+                let col = f.u_ptr[j]..d;
+                for (&r, u) in f.u_idx[col.clone()].iter().zip(&f.u_val[col]) {
+                    y[r] -= u * yj;
                 }
             }
         }
@@ -338,6 +339,19 @@ impl SparseLu {
             .map(|(x, y)| (x - y) * (x - y))
             .sum();
         d.sqrt() / self.a_fro
+    }
+
+    /// Adds `(B - A) y` to `out`, `A` the matrix last factorised and `B` the
+    /// matrix of `values`.
+    pub fn add_difference_times(&self, values: &[f64], y: &[f64], out: &mut [f64]) {
+        let p = &self.pattern;
+        for (j, yj) in y.iter().enumerate() {
+            let range = p.col_ptr[j]..p.col_ptr[j + 1];
+            let rows = p.row_idx[range.clone()].iter();
+            for (&i, (a, b)) in rows.zip(self.a[range.clone()].iter().zip(&values[range])) {
+                out[i] += (b - a) * yj;
+            }
+        }
     }
 
     /// An estimate of `σ_min / σ_max` (as [`super::linear::Lu::reciprocal_condition`]).
@@ -454,6 +468,71 @@ mod tests {
                 assert!((u - w).abs() <= tol * scale, "{u} {w} (N = {n}, afresh)");
             }
         }
+    }
+
+    /// `Factorisation::perturbation` (what `finish` relies on to let the last
+    /// Newton iterate's factorisation stand for the equilibrium's matrix)
+    /// against the exact `‖A⁻¹ (B - A)‖₂` of an SVD, in both storages, on
+    /// the KKT pattern of one and of three corners, for random
+    /// perturbations of three sizes: from below, and wherever `finish`
+    /// accepts it (at most `STAND_IN`), the norm is within the factor
+    /// `STAND_IN_MARGIN` it takes, below 1; and at least 1 (so `finish`
+    /// factorises `B`) for a singular `B`, a column of `A` zeroed
+    /// (`E = -e_j e_jᵀ` exactly), whatever the column.
+    #[test]
+    fn perturbation_estimates_the_distance_to_a_factorised_matrix() {
+        use crate::statics::tangent::{Factorisation, NewtonMatrix};
+        use crate::statics::{STAND_IN, STAND_IN_MARGIN};
+        let mut accepted = 0;
+        let storages = |pat: &Arc<Pattern>, v: &[f64]| {
+            let d = dense(pat, v);
+            [
+                NewtonMatrix::Sparse(pat.clone(), v.to_vec()),
+                NewtonMatrix::Dense(d),
+            ]
+        };
+        for (corners, seed) in [(1, 31), (3, 33)] {
+            let (p, pat) = pattern(corners);
+            let (n, dim) = (p.layout.n(), pat.dim());
+            let va = values(&pat, n, seed);
+            let ad = nalgebra::DMatrix::from_fn(dim, dim, |i, j| dense(&pat, &va)[(i, j)]);
+            let inv = ad.clone().try_inverse().expect("regular");
+            for (k, size) in [1e-6, 1e-3, 3e-2].into_iter().enumerate() {
+                let mut rng = Lcg::new(seed + 7 * k as u64);
+                let vb: Vec<f64> = va.iter().map(|a| a + size * rng.next()).collect();
+                let bd = nalgebra::DMatrix::from_fn(dim, dim, |i, j| dense(&pat, &vb)[(i, j)]);
+                let exact = (&inv * (&bd - &ad)).singular_values().max();
+                for (a, b) in storages(&pat, &va).iter().zip(storages(&pat, &vb)) {
+                    let mut f = Factorisation::for_matrix(a, || vec![(0..dim).collect()]);
+                    assert!(f.factor(a));
+                    let est = f.perturbation(&b);
+                    eprintln!(
+                        "N = {corners}, size {size:.0e}: exact {exact:.3e}, estimate {est:.3e}"
+                    );
+                    assert!(est <= exact * (1.0 + 1e-8), "{est} {exact}");
+                    assert!(
+                        est > STAND_IN || exact <= STAND_IN_MARGIN * est.max(1e-300),
+                        "{est} {exact}"
+                    );
+                    accepted += usize::from(est <= STAND_IN);
+                    assert_eq!(f.perturbation(a), 0.0, "B = A");
+                }
+            }
+            for j in [0, n / 2, n, dim - 1] {
+                let mut vb = va.clone();
+                vb[pat.col_ptr[j]..pat.col_ptr[j + 1]]
+                    .iter_mut()
+                    .for_each(|x| *x = 0.0);
+                for (a, b) in storages(&pat, &va).iter().zip(storages(&pat, &vb)) {
+                    let mut f = Factorisation::for_matrix(a, || vec![(0..dim).collect()]);
+                    assert!(f.factor(a));
+                    let est = f.perturbation(&b);
+                    assert!(est >= 1.0 - 1e-9, "column {j}: {est}");
+                }
+            }
+        }
+        // The smallest perturbations are accepted (both sizes, both storages).
+        assert!(accepted >= 4, "{accepted}");
     }
 
     /// Two constraint rows made equal (a redundant joint equation): the sparse

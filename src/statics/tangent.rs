@@ -171,6 +171,55 @@ impl Factorisation {
         }
     }
 
+    /// An estimate of `‖E‖₂`, `E = A⁻¹ (B - A)`, for the matrix `A` last
+    /// factorised and `b`: two steps of the power method from the irregular
+    /// start of the condition estimate (two solves), a lower bound that
+    /// follows the dominant eigenvalue of `E` and may understate its norm
+    /// (see [`super::STAND_IN`]). A singular `B` has an eigenvalue `-1` of
+    /// `E`. With `‖E‖ < 1`, `B = A (I + E)` is regular and
+    /// `σ_min(B) ≥ (1 - ‖E‖) σ_min(A)`: how a factorisation of a nearby
+    /// matrix stands for `b` ([`super::finish`]). Infinite without a
+    /// factorisation or for a matrix in the other storage.
+    pub fn perturbation(&mut self, b: &NewtonMatrix) -> f64 {
+        let n = self.dim();
+        if b.dim() != n || n == 0 {
+            return f64::INFINITY;
+        }
+        let mut y = super::linear::irregular_start(n);
+        let mut z = vec![0.0; n];
+        let mut growth = 0.0f64;
+        for _ in 0..2 {
+            let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if !(norm > 0.0) {
+                // `E y` vanished: `B` equals `A` along the iterate.
+                return growth;
+            }
+            y.iter_mut().for_each(|v| *v /= norm);
+            z.iter_mut().for_each(|v| *v = 0.0);
+            match (&*self, b) {
+                (Factorisation::Dense(lu), NewtonMatrix::Dense(m)) => {
+                    lu.add_difference_times(m, &y, &mut z)
+                }
+                (Factorisation::Sparse(lu), NewtonMatrix::Sparse(p, v))
+                    if Arc::ptr_eq(lu.pattern(), p) =>
+                {
+                    lu.add_difference_times(v, &y, &mut z)
+                }
+                _ => return f64::INFINITY,
+            }
+            if !self.solve(&mut z) {
+                return f64::INFINITY;
+            }
+            std::mem::swap(&mut y, &mut z);
+            growth = growth.max(y.iter().map(|v| v * v).sum::<f64>().sqrt());
+        }
+        if growth.is_nan() {
+            f64::INFINITY
+        } else {
+            growth
+        }
+    }
+
     pub fn reciprocal_condition(&mut self) -> f64 {
         match self {
             Factorisation::Dense(lu) => lu.reciprocal_condition(),
