@@ -236,8 +236,8 @@ impl Workspace {
                     }
                     NewtonMatrix::Sparse(pat, vals) => {
                         for &(i, g) in &grad[..len] {
-                            match (pat.multiplier_slot(idx, i), pat.slot(i, n + idx)) {
-                                (Some(u), Some(v)) => {
+                            match pat.constraint_slots(idx, i) {
+                                Some((u, v)) => {
                                     vals[u] += g / s;
                                     vals[v] += g / s;
                                 }

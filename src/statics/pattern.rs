@@ -25,10 +25,13 @@ pub(crate) struct Pattern {
     m: usize,
     /// Per part, the parts coupled to it (itself included), ascending.
     parts: Vec<Vec<usize>>,
-    /// Per part, the multipliers whose equations act on it, ascending.
-    mults: Vec<Vec<usize>>,
     /// Per multiplier, the parts its equation acts on, ascending.
     of_mult: Vec<Vec<usize>>,
+    /// Per multiplier `k` and each of its parts `q` (as in `of_mult`), the
+    /// position of `k` among the multipliers acting on `q` (ascending): the
+    /// row of `k` among the multiplier rows of `q`'s columns, found once
+    /// instead of at every evaluation.
+    mult_pos: Vec<Vec<usize>>,
     pub col_ptr: Vec<usize>,
     pub row_idx: Vec<usize>,
     /// A fill-reducing column order (AMD) and its inverse, for the sparse LU.
@@ -90,13 +93,22 @@ impl Pattern {
             }
             col_ptr.push(row_idx.len());
         }
+        let mult_pos = of_mult
+            .iter()
+            .enumerate()
+            .map(|(k, on)| {
+                on.iter()
+                    .map(|&q| mults[q].binary_search(&k).ok())
+                    .collect::<Option<Vec<usize>>>()
+            })
+            .collect::<Option<Vec<_>>>()?;
         let (order, order_inv) = column_order(n + m, &col_ptr, &row_idx)?;
         Some(Pattern {
             n,
             m,
             parts,
-            mults,
             of_mult,
+            mult_pos,
             col_ptr,
             row_idx,
             order,
@@ -115,6 +127,7 @@ impl Pattern {
 
     /// The slot of entry `(row, col)` for a coordinate `row`: the first of the
     /// contiguous slots of rows `row..` of the same part in column `col`.
+    #[cfg(test)]
     pub fn slot(&self, row: usize, col: usize) -> Option<usize> {
         let list = if col < self.n {
             &self.parts[col / 6]
@@ -139,10 +152,21 @@ impl Pattern {
 
     /// The slot of entry `(n + k, col)`: multiplier `k`'s row in the column
     /// of coordinate `col`.
+    #[cfg(test)]
     pub fn multiplier_slot(&self, k: usize, col: usize) -> Option<usize> {
+        self.constraint_slots(k, col).map(|(row, _)| row)
+    }
+
+    /// The slots of the two entries of multiplier `k`'s equation at
+    /// coordinate `col`: `(n + k, col)` and `(col, n + k)` (the constraint
+    /// Jacobian and its transpose), by the positions found once in `new`.
+    pub fn constraint_slots(&self, k: usize, col: usize) -> Option<(usize, usize)> {
         let q = col / 6;
-        let t = self.mults.get(q)?.binary_search(&k).ok()?;
-        Some(self.col_ptr[col] + 6 * self.parts[q].len() + t)
+        let on = self.of_mult.get(k)?;
+        let tp = on.iter().position(|&x| x == q)?;
+        let row = self.col_ptr[col] + 6 * self.parts[q].len() + self.mult_pos[k][tp];
+        let column = self.col_ptr[self.n + k] + 6 * tp + col % 6;
+        Some((row, column))
     }
 
     /// The faer view of the structure.
@@ -179,6 +203,30 @@ fn column_order(
 mod tests {
     use super::*;
     use crate::statics::assembly::Workspace;
+
+    /// The slots found once per equation and part are the entries
+    /// `(n + k, col)` and `(col, n + k)` of the stored structure (found by
+    /// scanning its rows), for every multiplier and every coordinate of
+    /// three coupled corners; none for a part the equation does not act on.
+    #[test]
+    fn constraint_slots_are_the_stored_entries() {
+        let (m, _) = crate::statics::testkit::coupled_corners(3);
+        let p = Problem::new(&m).expect("problem");
+        let pat = Pattern::new(&p).expect("pattern");
+        let (n, mm) = (p.layout.n(), p.kept.len());
+        let entry = |row: usize, col: usize| {
+            (pat.col_ptr[col]..pat.col_ptr[col + 1]).find(|&s| pat.row_idx[s] == row)
+        };
+        let mut found = 0;
+        for k in 0..mm {
+            for col in 0..n {
+                let searched = entry(n + k, col).zip(entry(col, n + k));
+                assert_eq!(pat.constraint_slots(k, col), searched, "({k}, {col})");
+                found += usize::from(searched.is_some());
+            }
+        }
+        assert!(found >= 6 * mm, "{found}");
+    }
 
     /// Every entry the dense assembly writes, at a loaded state away from
     /// equilibrium, is in the pattern: the structure read at design holds
