@@ -190,7 +190,10 @@ impl Factorisation {
         let mut growth = 0.0f64;
         for _ in 0..2 {
             let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
-            if !(norm > 0.0) {
+            if norm.is_nan() {
+                return f64::INFINITY;
+            }
+            if norm == 0.0 {
                 // `E y` vanished: `B` equals `A` along the iterate.
                 return growth;
             }
