@@ -379,10 +379,11 @@ fn finish(
     // over the matrix), or, when that bound is too coarse (a matrix whose
     // stiff entries moved by more than its softest direction's `σ_min`),
     // `A = A_f (I + E)` with a small `E` and `σ_min(A) ≥ (1 - ‖E‖)
-    // σ_min(A_f)`, `‖E‖` estimated from below by two power steps (two
-    // solves) and taken `STAND_IN_MARGIN` times over. Otherwise (or when the last step
-    // converged at once: the multipliers changed from zero, say) `A` is
-    // factorised. The condition estimate costs two inverse iterations.
+    // σ_min(A_f)`, `‖E‖` estimated by two power steps (two solves, an
+    // understatement, see `STAND_IN`) and taken `STAND_IN_MARGIN` times
+    // over. Otherwise (or when the last step converged at once: the
+    // multipliers changed from zero, say) `A` is factorised. The condition
+    // estimate costs two inverse iterations, once per factorisation.
     let mut rcond = if sv.factored {
         sv.reciprocal_condition()
     } else {
