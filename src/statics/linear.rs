@@ -316,34 +316,45 @@ pub(crate) fn irregular_start(n: usize) -> Vec<f64> {
         .collect()
 }
 
+/// The growth of two power steps `y ← step(y / ‖y‖)` from the irregular
+/// start: the largest `‖step(ŷ)‖` (`step` an operator applied in place,
+/// false if it fails). `None` when a step fails or an iterate is not a
+/// number; the growth so far when an iterate vanishes.
+pub(crate) fn power_growth(n: usize, mut step: impl FnMut(&mut [f64]) -> bool) -> Option<f64> {
+    let mut y = irregular_start(n);
+    let mut growth = 0.0f64;
+    for _ in 0..2 {
+        let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if norm.is_nan() {
+            return None;
+        }
+        if norm == 0.0 {
+            return Some(growth);
+        }
+        y.iter_mut().for_each(|v| *v /= norm);
+        if !step(&mut y) {
+            return None;
+        }
+        growth = growth.max(y.iter().map(|v| v * v).sum::<f64>().sqrt());
+    }
+    (!growth.is_nan()).then_some(growth)
+}
+
 /// `1 / (‖A‖_F · ‖A⁻¹ y‖)` after two inverse iterations with `solve` from a
 /// fixed irregular start: the estimate of [`Lu::reciprocal_condition`] for
 /// any factorisation of an `n`×`n` matrix of Frobenius norm `a_fro`.
 pub(crate) fn inverse_iteration(
     n: usize,
     a_fro: f64,
-    mut solve: impl FnMut(&mut [f64]) -> bool,
+    solve: impl FnMut(&mut [f64]) -> bool,
 ) -> f64 {
     if n == 0 {
         return 0.0;
     }
-    let mut y = irregular_start(n);
-    let mut growth = 0.0f64;
-    for _ in 0..2 {
-        let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if norm.is_nan() || norm <= 0.0 {
-            return 0.0;
-        }
-        y.iter_mut().for_each(|v| *v /= norm);
-        if !solve(&mut y) {
-            return 0.0;
-        }
-        growth = growth.max(y.iter().map(|v| v * v).sum::<f64>().sqrt());
+    match power_growth(n, solve) {
+        Some(growth) if growth > 0.0 && a_fro > 0.0 => 1.0 / (a_fro * growth),
+        _ => 0.0,
     }
-    if growth.is_nan() || growth <= 0.0 || a_fro <= 0.0 {
-        return 0.0;
-    }
-    1.0 / (a_fro * growth)
 }
 
 // The factorisation and substitutions as free functions. (A build with AVX2

@@ -91,9 +91,7 @@ impl Solver {
             trial: st.clone(),
         }
     }
-}
 
-impl Solver {
     /// Factorises the workspace's Newton matrix; false if a pivot is zero or
     /// not finite.
     pub fn factor_matrix(&mut self) -> bool {
@@ -108,6 +106,15 @@ impl Solver {
         *self
             .rcond
             .get_or_insert_with(|| self.lu.reciprocal_condition())
+    }
+
+    /// The workspace's matrix factorised again with fresh pivots when the
+    /// last factorisation reused earlier ones ([`Factorisation::factor_afresh`]).
+    fn factor_afresh(&mut self) -> Option<bool> {
+        let ok = self.lu.factor_afresh(&self.ws.a)?;
+        self.factorizations += 1;
+        self.rcond = None;
+        Some(ok)
     }
 }
 
@@ -188,9 +195,7 @@ pub(crate) fn newton(
         // Pivots reused from an earlier matrix passed their threshold but gave
         // a solution the residual check refused: pivot afresh before taking
         // the matrix for singular.
-        if !solved && let Some(ok) = sv.lu.factor_afresh(&sv.ws.a) {
-            sv.factorizations += 1;
-            sv.rcond = None;
+        if !solved && let Some(ok) = sv.factor_afresh() {
             sv.x.copy_from_slice(&sv.b);
             solved = ok && sv.lu.solve(&mut sv.x) && sv.lu.satisfies(&sv.ws.a, &sv.x, &sv.b);
         }

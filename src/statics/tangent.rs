@@ -185,42 +185,25 @@ impl Factorisation {
         if b.dim() != n || n == 0 {
             return f64::INFINITY;
         }
-        let mut y = super::linear::irregular_start(n);
         let mut z = vec![0.0; n];
-        let mut growth = 0.0f64;
-        for _ in 0..2 {
-            let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
-            if norm.is_nan() {
-                return f64::INFINITY;
-            }
-            if norm == 0.0 {
-                // `E y` vanished: `B` equals `A` along the iterate.
-                return growth;
-            }
-            y.iter_mut().for_each(|v| *v /= norm);
+        super::linear::power_growth(n, |y| {
             z.iter_mut().for_each(|v| *v = 0.0);
             match (&*self, b) {
                 (Factorisation::Dense(lu), NewtonMatrix::Dense(m)) => {
-                    lu.add_difference_times(m, &y, &mut z)
+                    lu.add_difference_times(m, y, &mut z)
                 }
                 (Factorisation::Sparse(lu), NewtonMatrix::Sparse(p, v))
                     if Arc::ptr_eq(lu.pattern(), p) =>
                 {
-                    lu.add_difference_times(v, &y, &mut z)
+                    lu.add_difference_times(v, y, &mut z)
                 }
-                _ => return f64::INFINITY,
+                _ => return false,
             }
-            if !self.solve(&mut z) {
-                return f64::INFINITY;
-            }
-            std::mem::swap(&mut y, &mut z);
-            growth = growth.max(y.iter().map(|v| v * v).sum::<f64>().sqrt());
-        }
-        if growth.is_nan() {
-            f64::INFINITY
-        } else {
-            growth
-        }
+            let solved = self.solve(&mut z);
+            y.copy_from_slice(&z);
+            solved
+        })
+        .unwrap_or(f64::INFINITY)
     }
 
     pub fn reciprocal_condition(&mut self) -> f64 {
