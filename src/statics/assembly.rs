@@ -235,9 +235,21 @@ impl Workspace {
                         }
                     }
                     NewtonMatrix::Sparse(pat, vals) => {
+                        // The gradient comes part by part: one look-up each.
+                        let mut block = None;
                         for &(i, g) in &grad[..len] {
-                            match pat.constraint_slots(idx, i) {
-                                Some((u, v)) => {
+                            let q = i / 6;
+                            let b = match block {
+                                Some((bq, b)) if bq == q => b,
+                                _ => {
+                                    let b = pat.constraint_block(idx, q);
+                                    block = Some((q, b));
+                                    b
+                                }
+                            };
+                            match b {
+                                Some(b) => {
+                                    let (u, v) = b.slots(i % 6);
                                     vals[u] += g / s;
                                     vals[v] += g / s;
                                 }

@@ -18,6 +18,22 @@ use super::coords::State;
 use super::forces::for_each_element;
 use faer::sparse::SymbolicSparseColMatRef;
 
+/// The slots of one equation's entries at one part's coordinates (see
+/// [`Pattern::constraint_block`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ConstraintBlock {
+    row: usize,
+    stride: usize,
+    column: usize,
+}
+
+impl ConstraintBlock {
+    /// The slots of `(n + k, 6 q + a)` and `(6 q + a, n + k)`.
+    pub fn slots(&self, a: usize) -> (usize, usize) {
+        (self.row + a * self.stride, self.column + a)
+    }
+}
+
 #[derive(Debug)]
 pub(crate) struct Pattern {
     /// Coordinates (6 per moving part) and multipliers.
@@ -159,14 +175,24 @@ impl Pattern {
 
     /// The slots of the two entries of multiplier `k`'s equation at
     /// coordinate `col`: `(n + k, col)` and `(col, n + k)` (the constraint
-    /// Jacobian and its transpose), by the positions found once in `new`.
+    /// Jacobian and its transpose).
+    #[cfg(test)]
     pub fn constraint_slots(&self, k: usize, col: usize) -> Option<(usize, usize)> {
-        let q = col / 6;
-        let on = self.of_mult.get(k)?;
-        let tp = on.iter().position(|&x| x == q)?;
-        let row = self.col_ptr[col] + 6 * self.parts[q].len() + self.mult_pos[k][tp];
-        let column = self.col_ptr[self.n + k] + 6 * tp + col % 6;
-        Some((row, column))
+        self.constraint_block(k, col / 6).map(|b| b.slots(col % 6))
+    }
+
+    /// Where multiplier `k`'s equation meets the six coordinates of part
+    /// `q` (None: it does not act on `q`), by the positions found once in
+    /// `new`: the six columns of a part hold the same rows, so its row is
+    /// at one offset in each, a column length apart.
+    pub fn constraint_block(&self, k: usize, q: usize) -> Option<ConstraintBlock> {
+        let tp = self.of_mult.get(k)?.iter().position(|&x| x == q)?;
+        let first = self.col_ptr[6 * q];
+        Some(ConstraintBlock {
+            row: first + 6 * self.parts[q].len() + self.mult_pos[k][tp],
+            stride: self.col_ptr[6 * q + 1] - first,
+            column: self.col_ptr[self.n + k] + 6 * tp,
+        })
     }
 
     /// The faer view of the structure.
