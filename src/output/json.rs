@@ -8,11 +8,13 @@
 
 use super::number::push_json;
 use serde_json::Value;
-use std::fmt::Write;
+use std::io::Write;
 
-/// Pretty JSON (two-space indent) into a `String`.
+/// Pretty JSON (two-space indent), built as bytes (numbers are written
+/// digit by digit; one check that the document is UTF-8 at the end, not one
+/// per number) and returned as a `String`.
 pub struct Json {
-    out: String,
+    out: Vec<u8>,
     /// Per open container: whether it has an item yet.
     open: Vec<bool>,
     /// A key was written; its value follows on the same line.
@@ -28,7 +30,7 @@ impl Default for Json {
 impl Json {
     pub fn new() -> Json {
         Json {
-            out: String::new(),
+            out: Vec::new(),
             open: Vec::with_capacity(8),
             after_key: false,
         }
@@ -36,8 +38,10 @@ impl Json {
 
     /// The document with its final newline.
     pub fn finish(mut self) -> String {
-        self.out.push('\n');
-        self.out
+        self.out.push(b'\n');
+        // Every write is a `&str`, an ASCII byte or a number's ASCII digits.
+        String::from_utf8(self.out)
+            .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
     }
 
     fn indent(&mut self, depth: usize) {
@@ -45,7 +49,7 @@ impl Json {
         let mut n = 2 * depth;
         while n > 0 {
             let k = n.min(SPACES.len());
-            self.out.push_str(&SPACES[..k]);
+            self.out.extend_from_slice(&SPACES.as_bytes()[..k]);
             n -= k;
         }
     }
@@ -59,7 +63,8 @@ impl Json {
         if let Some(has) = self.open.last_mut() {
             let first = !*has;
             *has = true;
-            self.out.push_str(if first { "\n" } else { ",\n" });
+            self.out
+                .extend_from_slice(if first { b"\n" } else { b",\n" });
             self.indent(self.open.len());
         }
     }
@@ -67,36 +72,36 @@ impl Json {
     pub fn key(&mut self, k: &str) -> &mut Json {
         self.item();
         self.string_contents(k);
-        self.out.push_str(": ");
+        self.out.extend_from_slice(b": ");
         self.after_key = true;
         self
     }
 
-    fn begin(&mut self, c: char) {
+    fn begin(&mut self, c: u8) {
         self.item();
         self.out.push(c);
         self.open.push(false);
     }
 
-    fn end(&mut self, c: char) {
+    fn end(&mut self, c: u8) {
         if self.open.pop() == Some(true) {
-            self.out.push('\n');
+            self.out.push(b'\n');
             self.indent(self.open.len());
         }
         self.out.push(c);
     }
 
     pub fn begin_object(&mut self) {
-        self.begin('{');
+        self.begin(b'{');
     }
     pub fn end_object(&mut self) {
-        self.end('}');
+        self.end(b'}');
     }
     pub fn begin_array(&mut self) {
-        self.begin('[');
+        self.begin(b'[');
     }
     pub fn end_array(&mut self) {
-        self.end(']');
+        self.end(b']');
     }
 
     /// A float, rounded as every number of `solve` and `kc` output.
@@ -112,7 +117,8 @@ impl Json {
 
     pub fn bool(&mut self, v: bool) {
         self.item();
-        self.out.push_str(if v { "true" } else { "false" });
+        self.out
+            .extend_from_slice(if v { b"true" } else { b"false" });
     }
 
     pub fn str(&mut self, s: &str) {
@@ -130,33 +136,40 @@ impl Json {
 
     /// A quoted string with serde_json's escapes.
     fn string_contents(&mut self, s: &str) {
-        self.out.push('"');
+        self.out.push(b'"');
+        let bytes = s.as_bytes();
+        // Keys and names rarely need an escape: copy those whole.
+        if !bytes.iter().any(|&b| b < 0x20 || b == b'"' || b == b'\\') {
+            self.out.extend_from_slice(bytes);
+            self.out.push(b'"');
+            return;
+        }
         let mut run = 0;
-        for (i, b) in s.bytes().enumerate() {
-            let esc = match b {
-                b'"' => "\\\"",
-                b'\\' => "\\\\",
-                b'\n' => "\\n",
-                b'\r' => "\\r",
-                b'\t' => "\\t",
-                0x08 => "\\b",
-                0x0c => "\\f",
-                0..=0x1f => "",
+        for (i, &b) in bytes.iter().enumerate() {
+            let esc: &[u8] = match b {
+                b'"' => b"\\\"",
+                b'\\' => b"\\\\",
+                b'\n' => b"\\n",
+                b'\r' => b"\\r",
+                b'\t' => b"\\t",
+                0x08 => b"\\b",
+                0x0c => b"\\f",
+                0..=0x1f => b"",
                 _ => continue,
             };
-            self.out.push_str(&s[run..i]);
+            self.out.extend_from_slice(&bytes[run..i]);
             if esc.is_empty() {
                 const HEX: &[u8; 16] = b"0123456789abcdef";
-                self.out.push_str("\\u00");
-                self.out.push(HEX[usize::from(b >> 4)] as char);
-                self.out.push(HEX[usize::from(b & 0xf)] as char);
+                self.out.extend_from_slice(b"\\u00");
+                self.out.push(HEX[usize::from(b >> 4)]);
+                self.out.push(HEX[usize::from(b & 0xf)]);
             } else {
-                self.out.push_str(esc);
+                self.out.extend_from_slice(esc);
             }
             run = i + 1;
         }
-        self.out.push_str(&s[run..]);
-        self.out.push('"');
+        self.out.extend_from_slice(&bytes[run..]);
+        self.out.push(b'"');
     }
 
     /// A whole serde_json value (floats rounded, integers as they are), for
@@ -165,7 +178,7 @@ impl Json {
         match v {
             Value::Null => {
                 self.item();
-                self.out.push_str("null");
+                self.out.extend_from_slice(b"null");
             }
             Value::Bool(b) => self.bool(*b),
             Value::Number(n) => match n.as_f64() {

@@ -102,6 +102,14 @@ impl Rounded {
     }
 }
 
+/// "00" to "99", two bytes each.
+const PAIRS: &[u8; 200] = b"\
+0001020304050607080910111213141516171819\
+2021222324252627282930313233343536373839\
+4041424344454647484950515253545556575859\
+6061626364656667686970717273747576777879\
+8081828384858687888990919293949596979899";
+
 /// `v` as serde_json prints the double [`round`] gives (`null` if not finite).
 ///
 /// The shortest form of that double is the ten rounded digits with trailing
@@ -109,66 +117,76 @@ impl Rounded {
 /// nearest double), laid out as zmij (serde_json's printer) lays them out for
 /// exponents in its fixed notation (-5..=15); other exponents and undecided
 /// roundings go through the rounded double and zmij.
-pub fn push_json(out: &mut String, v: f64) {
+pub fn push_json(out: &mut Vec<u8>, v: f64) {
     if !v.is_finite() {
-        out.push_str("null");
+        out.extend_from_slice(b"null");
         return;
     }
     if v.abs() < ZERO {
-        out.push_str("0.0");
+        out.extend_from_slice(b"0.0");
         return;
     }
-    let fallback = |out: &mut String| {
+    let fallback = |out: &mut Vec<u8>| {
         // Where the rounding overflows (near f64::MAX) the tree kept the number as it was.
         let x = round(v);
         let x = if x.is_finite() { x } else { v };
-        out.push_str(zmij::Buffer::new().format_finite(x));
+        out.extend_from_slice(zmij::Buffer::new().format_finite(x).as_bytes());
     };
     let Some(r) = Rounded::new(v.abs()).filter(|r| (-5..=15).contains(&r.e)) else {
         fallback(out);
         return;
     };
-    // sign, at most 6 leading zeros, ten digits, the point, the trailing ".0" or zeros
-    let mut out_buf = [0u8; 40];
-    let mut n = 0;
-    if v < 0.0 {
-        out_buf[0] = b'-';
-        n = 1;
+    // The ten digits two at a time (five look-ups instead of ten divisions).
+    let mut digits = [b'0'; 2 * SIGNIFICANT];
+    let (top, low) = ((r.m / 100_000_000) as usize, (r.m % 100_000_000) as u32);
+    let (mid, bottom) = ((low / 10_000) as usize, (low % 10_000) as usize);
+    for (k, pair) in [top, mid / 100, mid % 100, bottom / 100, bottom % 100]
+        .into_iter()
+        .enumerate()
+    {
+        digits[2 * k..2 * k + 2].copy_from_slice(&PAIRS[2 * pair..2 * pair + 2]);
     }
-    let mut digits = [0u8; SIGNIFICANT];
-    let (mut hi, mut lo) = ((r.m / 100_000) as u32, (r.m % 100_000) as u32);
-    for k in (0..5).rev() {
-        digits[k + 5] = b'0' + (lo % 10) as u8;
-        digits[k] = b'0' + (hi % 10) as u8;
-        lo /= 10;
-        hi /= 10;
-    }
-    let len = SIGNIFICANT - digits.iter().rev().take_while(|&&d| d == b'0').count();
-    let d = &digits[..len];
-    let mut put = |bytes: &[u8]| {
-        out_buf[n..n + bytes.len()].copy_from_slice(bytes);
-        n += bytes.len();
-    };
+    let len = SIGNIFICANT
+        - digits[..SIGNIFICANT]
+            .iter()
+            .rev()
+            .take_while(|&&d| d == b'0')
+            .count();
+    // Laid out in a buffer by copies of fixed length (ten digits, sixteen
+    // zeros; what follows overwrites the excess), so that a number costs
+    // one variable-length copy, into `out`.
     const ZEROS: &[u8; 16] = b"0000000000000000";
+    let mut buf = [0u8; 48];
+    let mut n = usize::from(v < 0.0);
+    buf[0] = b'-';
     let e = r.e;
     if len as i32 - 1 <= e {
         // 1234e7 -> 12340000000.0
-        put(d);
-        put(&ZEROS[..(e + 1 - len as i32) as usize]);
-        put(b".0");
+        buf[n..n + SIGNIFICANT].copy_from_slice(&digits[..SIGNIFICANT]);
+        n += len;
+        buf[n..n + 16].copy_from_slice(ZEROS);
+        n += (e + 1 - len as i32) as usize;
+        buf[n..n + 2].copy_from_slice(b".0");
+        n += 2;
     } else if e >= 0 {
         // 1234e-2 -> 12.34
         let k = e as usize + 1;
-        put(&d[..k]);
-        put(b".");
-        put(&d[k..]);
+        buf[n..n + SIGNIFICANT].copy_from_slice(&digits[..SIGNIFICANT]);
+        n += k;
+        buf[n] = b'.';
+        n += 1;
+        buf[n..n + SIGNIFICANT].copy_from_slice(&digits[k..k + SIGNIFICANT]);
+        n += len - k;
     } else {
         // 1234e-6 -> 0.001234
-        put(b"0.");
-        put(&ZEROS[..(-e - 1) as usize]);
-        put(d);
+        buf[n..n + 2].copy_from_slice(b"0.");
+        n += 2;
+        buf[n..n + 16].copy_from_slice(ZEROS);
+        n += (-e - 1) as usize;
+        buf[n..n + SIGNIFICANT].copy_from_slice(&digits[..SIGNIFICANT]);
+        n += len;
     }
-    out.push_str(std::str::from_utf8(&out_buf[..n]).unwrap_or("?"));
+    out.extend_from_slice(&buf[..n]);
 }
 
 /// `v` for a CSV field: [`round`], shortest form.
@@ -285,12 +303,14 @@ mod tests {
                 _ => v,
             };
             let want = serde_json::to_string(&want).unwrap_or_default();
-            let mut got = String::new();
+            let mut got = Vec::new();
             push_json(&mut got, v);
+            let got = String::from_utf8(got).expect("ASCII");
             assert_eq!(got, want, "{v:e}");
         }
-        let mut got = String::new();
+        let mut got = Vec::new();
         push_json(&mut got, f64::NAN);
+        let got = String::from_utf8(got).expect("ASCII");
         assert_eq!(got, "null");
     }
 
