@@ -166,13 +166,6 @@ impl Pattern {
         Some([0, 1, 2].map(|b| self.col_ptr[col + b] + off))
     }
 
-    /// The slot of entry `(n + k, col)`: multiplier `k`'s row in the column
-    /// of coordinate `col`.
-    #[cfg(test)]
-    pub fn multiplier_slot(&self, k: usize, col: usize) -> Option<usize> {
-        self.constraint_slots(k, col).map(|(row, _)| row)
-    }
-
     /// The slots of the two entries of multiplier `k`'s equation at
     /// coordinate `col`: `(n + k, col)` and `(col, n + k)` (the constraint
     /// Jacobian and its transpose).

@@ -542,15 +542,14 @@ mod tests {
         let (p, pat) = pattern(3);
         let n = p.layout.n();
         let mut v = values(&pat, n, 21);
-        // Multipliers 0 and 1 belong to one joint: the same parts, the same slots.
+        // Multipliers 0 and 1 belong to one joint: the same parts, the same
+        // slots (in the Jacobian's rows and in its transpose's columns).
         for j in 0..n {
-            if let (Some(a), Some(b)) = (pat.multiplier_slot(0, j), pat.multiplier_slot(1, j)) {
-                v[b] = v[a];
-            }
-        }
-        for i in 0..n {
-            if let (Some(a), Some(b)) = (pat.slot(i, n), pat.slot(i, n + 1)) {
-                v[b] = v[a];
+            if let (Some((ra, ca)), Some((rb, cb))) =
+                (pat.constraint_slots(0, j), pat.constraint_slots(1, j))
+            {
+                v[rb] = v[ra];
+                v[cb] = v[ca];
             }
         }
         let mut s = SparseLu::new(pat.clone());
