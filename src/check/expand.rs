@@ -7,6 +7,7 @@
 //! mirrored parts and ground markers are recorded and `Checker::mirror`
 //! reflects their checked frames.
 
+use super::instance_scope::{Scope, rewrite_expr, rewrite_part_item, rewrite_value};
 use crate::diagnostic::Diagnostic;
 use crate::span::Span;
 use crate::syntax::ast::*;
@@ -147,21 +148,6 @@ pub(crate) fn expand(file: &File, imported: &[Item]) -> Expansion {
     }
     x.items = items;
     x
-}
-
-/// The names of one instance: template parameters → their values, local
-/// names → expanded names.
-#[derive(Default, Clone)]
-struct Scope {
-    args: BTreeMap<String, Expr>,
-    /// Params, elements and nested instances.
-    names: BTreeMap<String, String>,
-    parts: BTreeMap<String, String>,
-    /// Parts outside the instance it adds markers to, by the name the body
-    /// uses: the template's `ground` block (the model's ground) and every
-    /// part parameter (`rack = chassis`): local name → (the part's name in
-    /// the expanded model, the markers it adds → their expanded names).
-    extends: BTreeMap<String, (String, BTreeMap<String, String>)>,
 }
 
 /// Markers an instance adds to a part outside it, kept until every part of
@@ -524,165 +510,4 @@ fn is_part_param(t: &TemplateDecl, name: &str) -> bool {
             .any(|p| matches!(&p.value, Value::Ref(r) if r.part.name == name)),
         _ => false,
     })
-}
-
-fn rewrite_part_item(pi: &PartItem, scope: &Scope, prefix: &str) -> PartItem {
-    let name = |n: &Ident| Ident {
-        name: if prefix.is_empty() {
-            n.name.clone()
-        } else {
-            format!("{prefix}.{}", n.name)
-        },
-        span: n.span,
-    };
-    match pi {
-        PartItem::Marker(m) => PartItem::Marker(MarkerDecl {
-            name: name(&m.name),
-            at: rewrite_vector(&m.at, scope),
-            orient: m.orient.as_ref().map(|o| match o {
-                Orient::Euler(v) => Orient::Euler(rewrite_vector(v, scope)),
-                Orient::Directions { z, x } => Orient::Directions {
-                    z: rewrite_vector(z, scope),
-                    x: x.as_ref().map(|x| rewrite_vector(x, scope)),
-                },
-            }),
-            span: m.span,
-        }),
-        PartItem::Landmark(l) => PartItem::Landmark(LandmarkDecl {
-            name: name(&l.name),
-            at: rewrite_vector(&l.at, scope),
-            span: l.span,
-        }),
-    }
-}
-
-fn rewrite_vector(v: &Vector, scope: &Scope) -> Vector {
-    Vector {
-        comps: [
-            rewrite_expr(&v.comps[0], scope),
-            rewrite_expr(&v.comps[1], scope),
-            rewrite_expr(&v.comps[2], scope),
-        ],
-        unit: v.unit.clone(),
-        span: v.span,
-    }
-}
-
-fn rewrite_value(v: &Value, scope: &Scope) -> Value {
-    match v {
-        Value::Ref(r) => {
-            let (part, marker) = if let Some(p) = scope.parts.get(&r.part.name) {
-                (p.clone(), r.marker.name.clone())
-            } else if let Some((target, ms)) = scope.extends.get(&r.part.name) {
-                let m = ms.get(&r.marker.name).unwrap_or(&r.marker.name);
-                (target.clone(), m.clone())
-            } else {
-                (r.part.name.clone(), r.marker.name.clone())
-            };
-            Value::Ref(MarkerRef {
-                part: Ident {
-                    name: part,
-                    span: r.part.span,
-                },
-                marker: Ident {
-                    name: marker,
-                    span: r.marker.span,
-                },
-                span: r.span,
-            })
-        }
-        Value::Vector(x) => Value::Vector(rewrite_vector(x, scope)),
-        Value::List(es, s) => Value::List(es.iter().map(|e| rewrite_expr(e, scope)).collect(), *s),
-        Value::Table(t) => Value::Table(t.clone()),
-        Value::Expr(e) => Value::Expr(rewrite_expr(e, scope)),
-    }
-}
-
-fn rewrite_expr(e: &Expr, scope: &Scope) -> Expr {
-    let b = |x: &Expr| Box::new(rewrite_expr(x, scope));
-    let kind = match &e.kind {
-        ExprKind::Param(id) => {
-            if let Some(v) = scope.args.get(&id.name) {
-                return v.clone();
-            }
-            ExprKind::Param(Ident {
-                name: scope
-                    .names
-                    .get(&id.name)
-                    .cloned()
-                    .unwrap_or_else(|| id.name.clone()),
-                span: id.span,
-            })
-        }
-        ExprKind::Quantity { .. } => e.kind.clone(),
-        ExprKind::Neg(a) => ExprKind::Neg(b(a)),
-        ExprKind::Binary(op, l, r) => ExprKind::Binary(*op, b(l), b(r)),
-        ExprKind::Pow(a, n) => ExprKind::Pow(b(a), n.clone()),
-        ExprKind::Call(f, args) => ExprKind::Call(
-            f.clone(),
-            args.iter().map(|a| rewrite_expr(a, scope)).collect(),
-        ),
-        ExprKind::Paren(a) => ExprKind::Paren(b(a)),
-    };
-    Expr { kind, span: e.span }
-}
-
-/// Points the diagnostics about a template's body at the instances they come
-/// from: one copy per distinct diagnostic, with a label at the instance (at
-/// every instance of the template when the message names none).
-pub(crate) fn attribute(
-    list: Vec<Diagnostic>,
-    instances: &[(Span, String, String, Span)],
-) -> Vec<Diagnostic> {
-    if instances.is_empty() {
-        return list;
-    }
-    let mut out: Vec<Diagnostic> = Vec::new();
-    for mut d in list {
-        let key = |d: &Diagnostic| {
-            (
-                d.code,
-                d.message.clone(),
-                d.labels.iter().find(|l| l.primary).map(|l| l.span),
-            )
-        };
-        if out.iter().any(|o| key(o) == key(&d)) {
-            continue;
-        }
-        let Some(primary) = d.labels.iter().find(|l| l.primary).map(|l| l.span) else {
-            out.push(d);
-            continue;
-        };
-        let inside: Vec<&(Span, String, String, Span)> = instances
-            .iter()
-            .filter(|(t, ..)| {
-                t.file == primary.file && t.start <= primary.start && primary.end <= t.end
-            })
-            .collect();
-        if !inside.is_empty() {
-            let text = format!(
-                "{} {}",
-                d.message,
-                d.labels
-                    .iter()
-                    .map(|l| l.message.as_str())
-                    .collect::<Vec<_>>()
-                    .join(" ")
-            );
-            let named: Vec<_> = inside
-                .iter()
-                .filter(|(_, n, ..)| text.contains(&format!("`{n}.")))
-                .copied()
-                .collect();
-            let which = if named.is_empty() { inside } else { named };
-            for (_, name, template, at) in which {
-                d = d.secondary(
-                    *at,
-                    format!("in instance `{name}` of template `{template}`"),
-                );
-            }
-        }
-        out.push(d);
-    }
-    out
 }

@@ -4,6 +4,7 @@
 //! and keeps what it could check ([`Analysis`]) for tools such as the language
 //! server: the partial model and a table of definitions and references.
 
+mod attribution;
 mod bushing;
 mod elements;
 mod error;
@@ -11,6 +12,7 @@ mod eval;
 mod expand;
 mod far_markers;
 mod friction;
+mod instance_scope;
 pub use friction::{allows as friction_allows, motion_word as friction_motion_word};
 mod geometry;
 mod loads;
@@ -202,7 +204,7 @@ fn check_depth(sources: &mut SourceMap, file: FileId, depth: usize, passes: Pass
         ..
     } = checker;
     let parsed = syntax_errors.is_empty();
-    problems.list = expand::attribute(problems.list, &expansion.instances);
+    problems.list = attribution::attribute(problems.list, &expansion.instances);
     if !parsed {
         problems = Problems {
             list: syntax_errors,
