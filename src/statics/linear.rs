@@ -20,7 +20,9 @@
 //! is orthogonal to that direction to rounding, which the fixed irregular start
 //! vector below makes practically impossible.
 
+use super::condition::{BlockSizes, Scale, max_and_squares, squares_of_difference};
 use faer::Mat;
+use std::cell::Cell;
 
 /// One independent block of a block-diagonal matrix ([`super::blocks`]):
 /// its indices, its own dense factorisation, and buffers to gather into.
@@ -45,16 +47,23 @@ pub(crate) struct Lu {
     /// The multipliers of the current step (a copy of a column of `L`).
     col: Vec<f64>,
     dim: usize,
-    /// Largest absolute entry and Frobenius norm of the matrix factorised.
+    /// The first `coords` rows and columns are the coordinates', the rest
+    /// the multipliers' ([`super::condition`]).
+    coords: usize,
+    /// Largest absolute entry of the matrix factorised.
     a_max: f64,
-    a_fro: f64,
+    /// Its scaling for the condition estimates, computed when first asked
+    /// for (at most once a case, not once a factorisation).
+    scale: Cell<Option<Scale>>,
     /// Whether `lu` holds a factorisation.
     valid: bool,
     res: Vec<f64>,
 }
 
 impl Lu {
-    pub fn new(dim: usize) -> Lu {
+    /// For `dim`×`dim` matrices whose first `coords` unknowns are
+    /// coordinates.
+    pub fn new(dim: usize, coords: usize) -> Lu {
         Lu {
             blocks: Vec::new(),
             a: Mat::zeros(dim, dim),
@@ -62,8 +71,9 @@ impl Lu {
             piv: vec![0; dim],
             col: vec![0.0; dim],
             dim,
+            coords,
             a_max: 0.0,
-            a_fro: 0.0,
+            scale: Cell::new(None),
             valid: false,
             res: vec![0.0; dim],
         }
@@ -71,20 +81,22 @@ impl Lu {
 
     /// A factorisation of matrices that are block diagonal over `groups`
     /// (disjoint index sets covering `0..dim`): dense when there is one.
-    pub fn with_blocks(dim: usize, groups: Vec<Vec<usize>>) -> Lu {
+    pub fn with_blocks(dim: usize, coords: usize, groups: Vec<Vec<usize>>) -> Lu {
         if groups.len() <= 1 {
-            return Lu::new(dim);
+            return Lu::new(dim, coords);
         }
-        let mut lu = Lu::new(0);
-        lu.dim = dim;
+        let mut lu = Lu::new(0, 0);
+        (lu.dim, lu.coords) = (dim, coords);
         lu.res = vec![0.0; dim];
         lu.blocks = groups
             .into_iter()
             .map(|idx| {
                 let k = idx.len();
+                // A block's coordinates come first, as in the whole matrix.
+                let own = idx.iter().filter(|&&i| i < coords).count();
                 Block {
                     idx,
-                    lu: Lu::new(k),
+                    lu: Lu::new(k, own),
                     a: Mat::zeros(k, k),
                     x: vec![0.0; k],
                     b: vec![0.0; k],
@@ -100,7 +112,7 @@ impl Lu {
 
     /// [`Self::factor`] block by block: only the blocks' entries are read.
     fn factor_blocks(&mut self, a: &Mat<f64>) -> bool {
-        let (mut valid, mut a_max, mut fro2) = (true, 0.0f64, 0.0f64);
+        let (mut valid, mut a_max) = (true, 0.0f64);
         for blk in &mut self.blocks {
             for (c, &j) in blk.idx.iter().enumerate() {
                 let src = a.col_as_slice(j);
@@ -111,10 +123,9 @@ impl Lu {
             }
             valid &= blk.lu.factor(&blk.a);
             a_max = a_max.max(blk.lu.a_max);
-            fro2 += blk.lu.a_fro * blk.lu.a_fro;
         }
         self.a_max = a_max;
-        self.a_fro = fro2.sqrt();
+        self.scale.set(None);
         self.valid = valid;
         valid
     }
@@ -134,29 +145,8 @@ impl Lu {
         for (j, dst) in self.lu.chunks_exact_mut(n.max(1)).enumerate() {
             dst.copy_from_slice(a.col_as_slice(j));
         }
-        // Eight independent lanes: a single running max and sum is a chain of
-        // dependent scalar operations that cost as much as a fifth of the
-        // whole solve; lanes let the compiler use vector instructions.
-        let (mut mx, mut sq) = ([0.0f64; 8], [0.0f64; 8]);
-        for j in 0..a.ncols() {
-            let col = a.col_as_slice(j);
-            let mut chunks = col.chunks_exact(8);
-            for c in &mut chunks {
-                for k in 0..8 {
-                    let v = c[k].abs();
-                    // Like `f64::max`, a NaN entry does not replace the maximum.
-                    mx[k] = if v > mx[k] { v } else { mx[k] };
-                    sq[k] += v * v;
-                }
-            }
-            for (k, v) in chunks.remainder().iter().enumerate() {
-                let v = v.abs();
-                mx[k] = if v > mx[k] { v } else { mx[k] };
-                sq[k] += v * v;
-            }
-        }
-        self.a_max = mx.iter().fold(0.0f64, |m, v| m.max(*v));
-        self.a_fro = sq.iter().sum::<f64>().sqrt();
+        self.a_max = max_and_squares(&self.lu).0;
+        self.scale.set(None);
         self.eliminate();
         let n = self.dim();
         self.valid = (0..n).all(|i| {
@@ -241,33 +231,69 @@ impl Lu {
         r <= 1e-8 * (b_max + self.a_max * x_max)
     }
 
-    /// `‖b - A‖_F / ‖A‖_F` for the matrix `A` last factorised: how far a
-    /// reciprocal condition of `A` can be from that of `b`.
+    /// The scaling of [`super::condition`] for the matrix last factorised.
+    pub fn scale(&self) -> Scale {
+        if let Some(s) = self.scale.get() {
+            return s;
+        }
+        let s = self.sizes().scale(self.coords);
+        self.scale.set(Some(s));
+        s
+    }
+
+    /// The sizes of the matrix factorised, by block.
+    fn sizes(&self) -> BlockSizes {
+        let mut sizes = BlockSizes::default();
+        if !self.blocks.is_empty() {
+            for blk in &self.blocks {
+                sizes.merge(&blk.lu.sizes());
+            }
+            return sizes;
+        }
+        let c = self.coords.min(self.dim());
+        for j in 0..self.dim() {
+            let (top, bottom) = self.a.col_as_slice(j).split_at(c);
+            let (mx, sq) = max_and_squares(top);
+            sizes.add(true, j < c, mx, sq);
+            let (mx, sq) = max_and_squares(bottom);
+            sizes.add(false, j < c, mx, sq);
+        }
+        sizes
+    }
+
+    /// `‖D (b - A) D‖_F / ‖D A D‖_F` for the matrix `A` last factorised and
+    /// its scaling `D`: how far a reciprocal condition of `A` can be from
+    /// that of `b`.
     pub fn distance_to(&self, b: &Mat<f64>) -> f64 {
         if !self.valid || b.nrows() != self.dim() || b.ncols() != self.dim() {
             return f64::INFINITY;
         }
+        let s = self.scale();
+        let a2 = s.alpha * s.alpha;
         if !self.blocks.is_empty() {
             let mut d = 0.0f64;
             for blk in &self.blocks {
                 for (c, &j) in blk.idx.iter().enumerate() {
                     let (x, y) = (blk.a.col_as_slice(c), b.col_as_slice(j));
                     for (xi, &i) in x.iter().zip(&blk.idx) {
-                        d += (xi - y[i]) * (xi - y[i]);
+                        let w = s.weight(i) * s.weight(j);
+                        d += (xi - y[i]) * (xi - y[i]) * w * w;
                     }
                 }
             }
-            return d.sqrt() / self.a_fro;
+            return d.sqrt() / s.fro;
         }
-        // Lanes for vector instructions, as in `factor`.
-        let mut d = [0.0f64; 8];
+        let c = s.coords.min(self.dim());
+        let mut d = 0.0f64;
         for j in 0..self.dim() {
             let (x, y) = (self.a.col_as_slice(j), b.col_as_slice(j));
-            for (k, (x, y)) in x.iter().zip(y).enumerate() {
-                d[k % 8] += (x - y) * (x - y);
-            }
+            let (x_top, x_bottom) = x.split_at(c);
+            let (y_top, y_bottom) = y.split_at(c);
+            let col = squares_of_difference(x_top, y_top)
+                + a2 * squares_of_difference(x_bottom, y_bottom);
+            d += if j < c { col } else { a2 * col };
         }
-        d.iter().sum::<f64>().sqrt() / self.a_fro
+        d.sqrt() / s.fro
     }
 
     /// Adds `(b - A) y` to `out`, `A` the matrix last factorised (within its
@@ -292,68 +318,17 @@ impl Lu {
         }
     }
 
-    /// An estimate of `σ_min / σ_max` of the factorised matrix from above (it
-    /// may overstate the ratio, by a small factor for any matrix met in
-    /// practice): `1 / (‖A‖_F · ‖A⁻¹ y‖)` after two inverse iterations.
+    /// An estimate of `σ_min / σ_max` of the factorised matrix `A` scaled
+    /// as `D A D` ([`super::condition`]), from above (it may overstate the
+    /// ratio, by a small factor for any matrix met in practice):
+    /// `1 / (‖D A D‖_F · ‖(D A D)⁻¹ y‖)` after two inverse iterations.
     pub fn reciprocal_condition(&mut self) -> f64 {
         let n = self.dim();
         if !self.valid || n == 0 {
             return 0.0;
         }
-        let a_fro = self.a_fro;
-        inverse_iteration(n, a_fro, |y| self.solve(y))
-    }
-}
-
-/// A start vector of irregular signs and sizes for the power and inverse
-/// iterations: no structure of a mechanism lines up with it.
-pub(crate) fn irregular_start(n: usize) -> Vec<f64> {
-    (0..n)
-        .map(|i| {
-            let t = (i as f64 + 1.0) * 0.618_033_988_749_895;
-            (t - t.floor()) - 0.5
-        })
-        .collect()
-}
-
-/// The growth of two power steps `y ← step(y / ‖y‖)` from the irregular
-/// start: the largest `‖step(ŷ)‖` (`step` an operator applied in place,
-/// false if it fails). `None` when a step fails or an iterate is not a
-/// number; the growth so far when an iterate vanishes.
-pub(crate) fn power_growth(n: usize, mut step: impl FnMut(&mut [f64]) -> bool) -> Option<f64> {
-    let mut y = irregular_start(n);
-    let mut growth = 0.0f64;
-    for _ in 0..2 {
-        let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if norm.is_nan() {
-            return None;
-        }
-        if norm == 0.0 {
-            return Some(growth);
-        }
-        y.iter_mut().for_each(|v| *v /= norm);
-        if !step(&mut y) {
-            return None;
-        }
-        growth = growth.max(y.iter().map(|v| v * v).sum::<f64>().sqrt());
-    }
-    (!growth.is_nan()).then_some(growth)
-}
-
-/// `1 / (‖A‖_F · ‖A⁻¹ y‖)` after two inverse iterations with `solve` from a
-/// fixed irregular start: the estimate of [`Lu::reciprocal_condition`] for
-/// any factorisation of an `n`×`n` matrix of Frobenius norm `a_fro`.
-pub(crate) fn inverse_iteration(
-    n: usize,
-    a_fro: f64,
-    solve: impl FnMut(&mut [f64]) -> bool,
-) -> f64 {
-    if n == 0 {
-        return 0.0;
-    }
-    match power_growth(n, solve) {
-        Some(growth) if growth > 0.0 && a_fro > 0.0 => 1.0 / (a_fro * growth),
-        _ => 0.0,
+        let s = self.scale();
+        s.reciprocal_condition(n, |y| self.solve(y))
     }
 }
 
@@ -454,7 +429,7 @@ mod tests {
     fn solves_and_estimates_the_condition() {
         let n = 47;
         let a = matrix(n, 3);
-        let mut lu = Lu::new(n);
+        let mut lu = Lu::new(n, n);
         assert!(lu.factor(&a));
         let b: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
         let mut x = b.clone();
@@ -567,7 +542,7 @@ mod elimination_tests {
         let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.3).sin()).collect();
         let mut x1 = b.clone();
         substitute(&l1, &p1, &mut x1);
-        let mut lu = Lu::new(n);
+        let mut lu = Lu::new(n, n);
         assert!(lu.factor(&a));
         let mut x = b.clone();
         assert!(lu.solve(&mut x) && lu.satisfies(&a, &x, &b));
@@ -586,7 +561,8 @@ mod block_tests {
 
     /// A block-diagonal matrix with interleaved blocks: the block
     /// factorisation solves it as the dense one does, and its norms,
-    /// distance and condition estimate agree.
+    /// scaling (the last four unknowns taken for multipliers), distance
+    /// and condition estimate agree.
     #[test]
     fn blocks_factorise_as_the_dense_matrix() {
         let n = 20;
@@ -603,7 +579,8 @@ mod block_tests {
                 }
             }
         }
-        let (mut dense, mut blocks) = (Lu::new(n), Lu::with_blocks(n, groups));
+        let c = n - 4;
+        let (mut dense, mut blocks) = (Lu::new(n, c), Lu::with_blocks(n, c, groups));
         assert!(dense.factor(&a) && blocks.factor(&a));
         let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).cos()).collect();
         let (mut x, mut y) = (b.clone(), b.clone());
@@ -615,8 +592,11 @@ mod block_tests {
         let mut wrong = y.clone();
         wrong[4] += 1e-3;
         assert!(!blocks.satisfies(&a, &wrong, &b));
-        assert!((dense.a_fro - blocks.a_fro).abs() < 1e-12 * dense.a_fro);
+        let (sd, sb) = (dense.scale(), blocks.scale());
+        assert!((sd.fro - sb.fro).abs() < 1e-12 * sd.fro);
+        assert_eq!((sd.alpha, sd.coords), (sb.alpha, sb.coords));
         assert_eq!(dense.a_max, blocks.a_max);
+        assert_ne!(sd.alpha, 1.0);
         let mut moved = a.clone();
         moved[(3, 3)] += 0.25;
         assert!((dense.distance_to(&moved) - blocks.distance_to(&moved)).abs() < 1e-15);

@@ -77,7 +77,7 @@ impl Solver {
         let (n, m) = (p.layout.n(), p.kept.len());
         let ws = Workspace::new(p);
         Solver {
-            lu: Factorisation::for_matrix(&ws.a, || super::blocks::groups(p, st)),
+            lu: Factorisation::for_matrix(&ws.a, p.layout.n(), || super::blocks::groups(p, st)),
             ws,
             factored: false,
             predict: false,
@@ -323,9 +323,11 @@ pub(crate) fn solve_dense(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<
 }
 
 /// If the scaled Newton matrix is numerically singular, the unrestrained motion
-/// as an error naming the part that moves most.
+/// as an error naming the part that moves most. Judged on the matrix with its
+/// multipliers weighed as the condition estimate weighs them
+/// ([`super::condition`]), the estimate that decides when this test runs.
 pub(crate) fn singular_direction(p: &Problem, a: &DMatrix<f64>) -> Option<StaticsError> {
-    let (ratio, motion) = softest_motion(p, a)?;
+    let (ratio, motion) = softest_motion(p, &super::condition::scaled(a, p.layout.n()))?;
     if ratio > 1e-12 {
         return None;
     }

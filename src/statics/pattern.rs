@@ -50,6 +50,9 @@ pub(crate) struct Pattern {
     mult_pos: Vec<Vec<usize>>,
     pub col_ptr: Vec<usize>,
     pub row_idx: Vec<usize>,
+    /// Per column, the end of its coordinate rows (they come first, the
+    /// multipliers' after; a multiplier's column has only coordinate rows).
+    pub coord_end: Vec<usize>,
     /// A fill-reducing column order (AMD) and its inverse, for the sparse LU.
     pub order: Vec<usize>,
     pub order_inv: Vec<usize>,
@@ -98,14 +101,16 @@ impl Pattern {
             v.sort_unstable();
             v.dedup();
         }
-        let (mut col_ptr, mut row_idx) = (vec![0], Vec::new());
+        let (mut col_ptr, mut row_idx, mut coord_end) = (vec![0], Vec::new(), Vec::new());
         for j in 0..n + m {
             if j < n {
                 let q = j / 6;
                 row_idx.extend(parts[q].iter().flat_map(|&r| 6 * r..6 * r + 6));
+                coord_end.push(row_idx.len());
                 row_idx.extend(mults[q].iter().map(|k| n + k));
             } else {
                 row_idx.extend(of_mult[j - n].iter().flat_map(|&r| 6 * r..6 * r + 6));
+                coord_end.push(row_idx.len());
             }
             col_ptr.push(row_idx.len());
         }
@@ -127,6 +132,7 @@ impl Pattern {
             mult_pos,
             col_ptr,
             row_idx,
+            coord_end,
             order,
             order_inv,
             pivots: std::sync::OnceLock::new(),
@@ -135,6 +141,11 @@ impl Pattern {
 
     pub fn dim(&self) -> usize {
         self.n + self.m
+    }
+
+    /// The coordinates (the first rows and columns; the multipliers follow).
+    pub fn coords(&self) -> usize {
+        self.n
     }
 
     pub fn nnz(&self) -> usize {
@@ -245,6 +256,23 @@ mod tests {
             }
         }
         assert!(found >= 6 * mm, "{found}");
+        // Each column's coordinate rows come first, up to `coord_end`.
+        for col in 0..n + mm {
+            let (start, mid, end) = (pat.col_ptr[col], pat.coord_end[col], pat.col_ptr[col + 1]);
+            assert!(start < mid && mid <= end, "column {col}");
+            assert!(
+                pat.row_idx[start..mid].iter().all(|&r| r < n),
+                "column {col}"
+            );
+            assert!(
+                pat.row_idx[mid..end].iter().all(|&r| r >= n),
+                "column {col}"
+            );
+            assert_eq!(
+                mid == end,
+                col >= n || pat.row_idx[start..end].iter().all(|&r| r < n)
+            );
+        }
     }
 
     /// Every entry the dense assembly writes, at a loaded state away from

@@ -4,6 +4,7 @@
 //! [`Pattern`] with the [`SparseLu`] above [`SPARSE_FROM`] unknowns, where
 //! the dense zeroing, copies and `O((n+m)³)` elimination would dominate.
 
+use super::condition::Scale;
 use super::linear::Lu;
 use super::pattern::Pattern;
 use super::sparse::SparseLu;
@@ -101,11 +102,18 @@ pub(crate) enum Factorisation {
 }
 
 impl Factorisation {
-    /// A factorisation for matrices stored as `a` is; `groups`: the
-    /// independent blocks of [`super::blocks`], used by the dense path.
-    pub fn for_matrix(a: &NewtonMatrix, groups: impl FnOnce() -> Vec<Vec<usize>>) -> Self {
+    /// A factorisation for matrices stored as `a` is, whose first `coords`
+    /// unknowns are coordinates; `groups`: the independent blocks of
+    /// [`super::blocks`], used by the dense path.
+    pub fn for_matrix(
+        a: &NewtonMatrix,
+        coords: usize,
+        groups: impl FnOnce() -> Vec<Vec<usize>>,
+    ) -> Self {
         match a {
-            NewtonMatrix::Dense(m) => Factorisation::Dense(Lu::with_blocks(m.nrows(), groups())),
+            NewtonMatrix::Dense(m) => {
+                Factorisation::Dense(Lu::with_blocks(m.nrows(), coords, groups()))
+            }
             NewtonMatrix::Sparse(p, _) => Factorisation::Sparse(SparseLu::new(p.clone())),
         }
     }
@@ -129,7 +137,8 @@ impl Factorisation {
                 lu.factor(v)
             }
             _ => {
-                *self = Factorisation::for_matrix(a, || vec![(0..a.dim()).collect()]);
+                let coords = self.scale().coords;
+                *self = Factorisation::for_matrix(a, coords, || vec![(0..a.dim()).collect()]);
                 self.factor(a)
             }
         }
@@ -161,8 +170,9 @@ impl Factorisation {
         }
     }
 
-    /// `‖b - A‖_F / ‖A‖_F` for the matrix `A` last factorised (infinite for
-    /// a matrix in the other storage).
+    /// `‖D (b - A) D‖_F / ‖D A D‖_F` for the matrix `A` last factorised and
+    /// its scaling `D` ([`super::condition`]; infinite for a matrix in the
+    /// other storage).
     pub fn distance_to(&self, b: &NewtonMatrix) -> f64 {
         match (self, b) {
             (Factorisation::Dense(lu), NewtonMatrix::Dense(m)) => lu.distance_to(m),
@@ -171,22 +181,25 @@ impl Factorisation {
         }
     }
 
-    /// An estimate of `‖E‖₂`, `E = A⁻¹ (B - A)`, for the matrix `A` last
-    /// factorised and `b`: two steps of the power method from the irregular
-    /// start of the condition estimate (two solves), a lower bound that
-    /// follows the dominant eigenvalue of `E` and may understate its norm
-    /// (see [`super::STAND_IN`]). A singular `B` has an eigenvalue `-1` of
-    /// `E`. With `‖E‖ < 1`, `B = A (I + E)` is regular and
-    /// `σ_min(B) ≥ (1 - ‖E‖) σ_min(A)`: how a factorisation of a nearby
-    /// matrix stands for `b` ([`super::finish`]). Infinite without a
+    /// An estimate of `‖E‖₂`, `E = (D A D)⁻¹ D (B - A) D = D⁻¹ A⁻¹ (B - A) D`,
+    /// for the matrix `A` last factorised, its scaling `D`
+    /// ([`super::condition`]) and `b`: two steps of the power method from
+    /// the irregular start of the condition estimate (two solves), a lower
+    /// bound that follows the dominant eigenvalue of `E` and may understate
+    /// its norm (see [`super::STAND_IN`]). A singular `B` has an eigenvalue
+    /// `-1` of `E`. With `‖E‖ < 1`, `D B D = D A D (I + E)` is regular and
+    /// `σ_min(D B D) ≥ (1 - ‖E‖) σ_min(D A D)`: how a factorisation of a
+    /// nearby matrix stands for `b` ([`super::finish`]). Infinite without a
     /// factorisation or for a matrix in the other storage.
     pub fn perturbation(&mut self, b: &NewtonMatrix) -> f64 {
         let n = self.dim();
         if b.dim() != n || n == 0 {
             return f64::INFINITY;
         }
+        let s = self.scale();
         let mut z = vec![0.0; n];
-        super::linear::power_growth(n, |y| {
+        super::condition::power_growth(n, |y| {
+            s.times(y);
             z.iter_mut().for_each(|v| *v = 0.0);
             match (&*self, b) {
                 (Factorisation::Dense(lu), NewtonMatrix::Dense(m)) => {
@@ -200,10 +213,19 @@ impl Factorisation {
                 _ => return false,
             }
             let solved = self.solve(&mut z);
+            s.divide(&mut z);
             y.copy_from_slice(&z);
             solved
         })
         .unwrap_or(f64::INFINITY)
+    }
+
+    /// The scaling of [`super::condition`] for the matrix last factorised.
+    pub fn scale(&self) -> Scale {
+        match self {
+            Factorisation::Dense(lu) => lu.scale(),
+            Factorisation::Sparse(lu) => lu.scale(),
+        }
     }
 
     pub fn reciprocal_condition(&mut self) -> f64 {

@@ -1,0 +1,321 @@
+//! How close the Newton matrix is to singular, cheaply: the estimates that
+//! decide when the exact SVD test of [`super::newton::singular_direction`]
+//! must run, and when the factorisation of a nearby matrix may stand for
+//! the equilibrium's ([`super::finish`]).
+//!
+//! The Newton matrix is the saddle point `[K Cᵀ; C 0]` of the scaled
+//! stiffness `K` (forces per length) and the constraint gradients `C`
+//! (rows of unit norm). Its raw condition mixes the two units: the
+//! constrained directions' singular values are about `‖C‖² / ‖K‖`, far
+//! below any stiffness. So the estimates here are of `D A D`, with `D` one
+//! on the coordinates and `α = √(max|K| / max|C|)` on the multipliers: a
+//! change of the multipliers' unit, which leaves singularity and the
+//! equilibrium as they are, after which the constrained directions weigh
+//! about as the stiffnesses do. Measured by SVD at the car's curb
+//! equilibrium (`examples/vehicle.axle`, 255 unknowns), `σ_min / ‖A‖_F` is
+//! 3.5e-10 raw and 1.2e-7 scaled (the same from `α` = 100 to 1000); the
+//! McPherson's 8.6e-8 and 2.6e-6. The raw ratio left the car 4.8 times
+//! above the threshold of the SVD test's estimate, and every case of a
+//! sweep needed two more solves to show its matrix regular.
+
+use nalgebra::DMatrix;
+
+/// A start vector of irregular signs and sizes for the power and inverse
+/// iterations: no structure of a mechanism lines up with it.
+pub(crate) fn irregular_start(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| {
+            let t = (i as f64 + 1.0) * 0.618_033_988_749_895;
+            (t - t.floor()) - 0.5
+        })
+        .collect()
+}
+
+/// The growth of two power steps `y ← step(y / ‖y‖)` from the irregular
+/// start: the largest `‖step(ŷ)‖` (`step` an operator applied in place,
+/// false if it fails). `None` when a step fails or an iterate is not a
+/// number; the growth so far when an iterate vanishes.
+pub(crate) fn power_growth(n: usize, mut step: impl FnMut(&mut [f64]) -> bool) -> Option<f64> {
+    let mut y = irregular_start(n);
+    let mut growth = 0.0f64;
+    for _ in 0..2 {
+        let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if norm.is_nan() {
+            return None;
+        }
+        if norm == 0.0 {
+            return Some(growth);
+        }
+        y.iter_mut().for_each(|v| *v /= norm);
+        if !step(&mut y) {
+            return None;
+        }
+        growth = growth.max(y.iter().map(|v| v * v).sum::<f64>().sqrt());
+    }
+    (!growth.is_nan()).then_some(growth)
+}
+
+/// `1 / (‖A‖_F · ‖A⁻¹ y‖)` after two inverse iterations with `solve` from a
+/// fixed irregular start: an estimate of `σ_min / σ_max` from above (it may
+/// overstate the ratio, by a small factor for any matrix met in practice)
+/// for any factorisation of an `n`×`n` matrix of Frobenius norm `a_fro`.
+pub(crate) fn inverse_iteration(
+    n: usize,
+    a_fro: f64,
+    solve: impl FnMut(&mut [f64]) -> bool,
+) -> f64 {
+    if n == 0 {
+        return 0.0;
+    }
+    match power_growth(n, solve) {
+        Some(growth) if growth > 0.0 && a_fro > 0.0 => 1.0 / (a_fro * growth),
+        _ => 0.0,
+    }
+}
+
+/// The sizes of the blocks of a Newton matrix `[K Cᵀ; C Z]` whose first
+/// `coords` rows and columns are the coordinates': largest entries and
+/// sums of squares, `c` counting both `C` and `Cᵀ`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct BlockSizes {
+    pub k_max: f64,
+    pub c_max: f64,
+    pub z_max: f64,
+    pub k_sq: f64,
+    pub c_sq: f64,
+    pub z_sq: f64,
+}
+
+impl BlockSizes {
+    /// Adds a run of entries (largest absolute value `max`, sum of squares
+    /// `sq`) whose row and column are coordinates or not.
+    pub fn add(&mut self, row_coord: bool, col_coord: bool, max: f64, sq: f64) {
+        let (m, s) = match (row_coord, col_coord) {
+            (true, true) => (&mut self.k_max, &mut self.k_sq),
+            (false, false) => (&mut self.z_max, &mut self.z_sq),
+            _ => (&mut self.c_max, &mut self.c_sq),
+        };
+        // Like `f64::max`, a NaN entry does not replace the maximum (the
+        // factorisation refuses such a matrix; the sums carry the NaN).
+        *m = if max > *m { max } else { *m };
+        *s += sq;
+    }
+
+    pub fn merge(&mut self, o: &BlockSizes) {
+        self.add(true, true, o.k_max, o.k_sq);
+        self.add(true, false, o.c_max, o.c_sq);
+        self.add(false, false, o.z_max, o.z_sq);
+    }
+
+    /// The multipliers' weight `α` (one without a stiffness or a
+    /// constraint to weigh against).
+    pub fn alpha(&self) -> f64 {
+        let a = (self.k_max / self.c_max).sqrt();
+        if a.is_finite() && a > 0.0 { a } else { 1.0 }
+    }
+
+    /// The scaling of `D A D` for a matrix with `coords` coordinates.
+    pub fn scale(&self, coords: usize) -> Scale {
+        let a2 = self.alpha() * self.alpha();
+        Scale {
+            coords,
+            alpha: self.alpha(),
+            fro: (self.k_sq + a2 * self.c_sq + a2 * a2 * self.z_sq).sqrt(),
+        }
+    }
+}
+
+/// `D = diag(1, …, 1, α, …, α)` (`coords` ones) and `‖D A D‖_F` for the
+/// matrix `A` of a factorisation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Scale {
+    pub coords: usize,
+    pub alpha: f64,
+    pub fro: f64,
+}
+
+impl Scale {
+    /// The weight of row or column `i`.
+    pub fn weight(&self, i: usize) -> f64 {
+        if i < self.coords { 1.0 } else { self.alpha }
+    }
+
+    /// `y ← D y`.
+    pub fn times(&self, y: &mut [f64]) {
+        y.iter_mut()
+            .skip(self.coords)
+            .for_each(|v| *v *= self.alpha);
+    }
+
+    /// `y ← D⁻¹ y`.
+    pub fn divide(&self, y: &mut [f64]) {
+        y.iter_mut()
+            .skip(self.coords)
+            .for_each(|v| *v /= self.alpha);
+    }
+
+    /// [`inverse_iteration`] of `D A D`, whose inverse is `D⁻¹ A⁻¹ D⁻¹`,
+    /// with `solve` the factorisation of `A`.
+    pub fn reciprocal_condition(&self, n: usize, mut solve: impl FnMut(&mut [f64]) -> bool) -> f64 {
+        inverse_iteration(n, self.fro, |y| {
+            self.divide(y);
+            let ok = solve(y);
+            self.divide(y);
+            ok
+        })
+    }
+}
+
+/// The largest absolute value and the sum of squares of `x`, in eight
+/// independent lanes: a single running max and sum is a chain of dependent
+/// scalar operations that cost as much as a fifth of the whole solve; lanes
+/// let the compiler use vector instructions.
+pub(crate) fn max_and_squares(x: &[f64]) -> (f64, f64) {
+    let (mut mx, mut sq) = ([0.0f64; 8], [0.0f64; 8]);
+    let mut chunks = x.chunks_exact(8);
+    for c in &mut chunks {
+        for k in 0..8 {
+            let v = c[k].abs();
+            // Like `f64::max`, a NaN entry does not replace the maximum.
+            mx[k] = if v > mx[k] { v } else { mx[k] };
+            sq[k] += v * v;
+        }
+    }
+    for (k, v) in chunks.remainder().iter().enumerate() {
+        let v = v.abs();
+        mx[k] = if v > mx[k] { v } else { mx[k] };
+        sq[k] += v * v;
+    }
+    (mx.iter().fold(0.0f64, |m, v| m.max(*v)), sq.iter().sum())
+}
+
+/// `Σ (x_i - y_i)²`, in lanes as [`max_and_squares`].
+pub(crate) fn squares_of_difference(x: &[f64], y: &[f64]) -> f64 {
+    let mut d = [0.0f64; 8];
+    let (xs, ys) = (x.chunks_exact(8), y.chunks_exact(8));
+    let (xr, yr) = (xs.remainder(), ys.remainder());
+    for (a, b) in xs.zip(ys) {
+        for k in 0..8 {
+            d[k] += (a[k] - b[k]) * (a[k] - b[k]);
+        }
+    }
+    for (k, (a, b)) in xr.iter().zip(yr).enumerate() {
+        d[k] += (a - b) * (a - b);
+    }
+    d.iter().sum()
+}
+
+/// The sizes of a dense Newton matrix with `coords` coordinates.
+pub(crate) fn dense_sizes(a: &DMatrix<f64>, coords: usize) -> BlockSizes {
+    let mut s = BlockSizes::default();
+    for j in 0..a.ncols() {
+        for i in 0..a.nrows() {
+            let v = a[(i, j)].abs();
+            s.add(i < coords, j < coords, v, v * v);
+        }
+    }
+    s
+}
+
+/// `D A D` of a dense Newton matrix with `coords` coordinates.
+pub(crate) fn scaled(a: &DMatrix<f64>, coords: usize) -> DMatrix<f64> {
+    let d = dense_sizes(a, coords).scale(coords);
+    DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| {
+        a[(i, j)] * d.weight(i) * d.weight(j)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The weight is `√(max|K| / max|C|)`, the scaled Frobenius norm that of
+    /// the matrix scaled entry by entry, and the scaled inverse iteration
+    /// the inverse iteration of that matrix.
+    #[test]
+    fn the_scale_is_that_of_the_matrix_scaled_entry_by_entry() {
+        // [K Cᵀ; C 0] with K = diag(400, 9) and C = [0.5 1].
+        let a = DMatrix::from_row_slice(3, 3, &[400.0, 0.0, 0.5, 0.0, 9.0, 1.0, 0.5, 1.0, 0.0]);
+        let sizes = dense_sizes(&a, 2);
+        assert_eq!(sizes.alpha(), 20.0);
+        let s = sizes.scale(2);
+        let das = scaled(&a, 2);
+        assert_eq!(das[(2, 0)], 10.0);
+        assert_eq!(das[(1, 2)], 20.0);
+        assert!((s.fro - das.norm()).abs() < 1e-12 * das.norm());
+        let lu_s = das.clone().lu();
+        let lu = a.clone().lu();
+        let direct = inverse_iteration(3, das.norm(), |y| {
+            let x = lu_s
+                .solve(&nalgebra::DVector::from_column_slice(y))
+                .expect("regular");
+            y.copy_from_slice(x.as_slice());
+            true
+        });
+        let through = s.reciprocal_condition(3, |y| {
+            let x = lu
+                .solve(&nalgebra::DVector::from_column_slice(y))
+                .expect("regular");
+            y.copy_from_slice(x.as_slice());
+            true
+        });
+        assert!(
+            (direct - through).abs() < 1e-12 * direct,
+            "{direct} {through}"
+        );
+        // Without constraints, or without stiffness, nothing is weighed.
+        assert_eq!(dense_sizes(&a, 3).alpha(), 1.0);
+        assert_eq!(BlockSizes::default().alpha(), 1.0);
+    }
+
+    /// At the equilibria of a mechanism (two coupled McPherson corners,
+    /// table 5-1), weighing the multipliers raises the ratio
+    /// `σ_min / ‖D A D‖_F` of the SVD more than tenfold, and the estimate
+    /// of both factorisations (dense and sparse) is within 1.3 of it, from
+    /// above: the estimate a threshold is set on is that of the matrix.
+    #[test]
+    fn on_a_mechanism_the_weighed_estimate_is_close_and_far_from_singular() {
+        use crate::statics::Problem;
+        use crate::statics::assembly::assemble;
+        use crate::statics::linear::Lu;
+        use crate::statics::newton::kkt;
+        use crate::statics::path::{set_loads, solve_path};
+        use crate::statics::tangent::{Factorisation, NewtonMatrix};
+        use crate::statics::testkit::coupled_corners;
+        let (m, set) = coupled_corners(2);
+        let p = Problem::new(&m).expect("problem");
+        let n = p.layout.n();
+        let loads = set_loads(&m, set).expect("loads");
+        let eqs = solve_path(&p, set).expect("solves");
+        for k in [0, eqs.len() - 1] {
+            let a = kkt(&assemble(&p, &eqs[k].state, &loads[k]).expect("assembles"));
+            let dim = a.nrows();
+            let raw = a.singular_values().min() / a.norm();
+            let s = scaled(&a, n);
+            let ratio = s.singular_values().min() / s.norm();
+            assert!(
+                ratio > 10.0 * raw,
+                "case {k}: {ratio:.3e} against {raw:.3e}"
+            );
+            let mut dense = Lu::new(dim, n);
+            let fa = faer::Mat::from_fn(dim, dim, |i, j| a[(i, j)]);
+            assert!(dense.factor(&fa));
+            let pat = p.pattern.clone().expect("the sparse path");
+            let mut values = vec![0.0; pat.nnz()];
+            for j in 0..dim {
+                for slot in pat.col_ptr[j]..pat.col_ptr[j + 1] {
+                    values[slot] = a[(pat.row_idx[slot], j)];
+                }
+            }
+            let sparse_m = NewtonMatrix::Sparse(pat.clone(), values);
+            let mut sparse = Factorisation::for_matrix(&sparse_m, n, Vec::new);
+            assert!(sparse.factor(&sparse_m));
+            for est in [dense.reciprocal_condition(), sparse.reciprocal_condition()] {
+                assert!(
+                    est >= ratio * (1.0 - 1e-9) && est < 1.3 * ratio,
+                    "case {k}: estimate {est:.4e}, SVD {ratio:.4e}"
+                );
+            }
+        }
+    }
+}
