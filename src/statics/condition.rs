@@ -101,6 +101,15 @@ impl BlockSizes {
         *s += sq;
     }
 
+    /// Adds a column (a coordinate's or not) as its coordinate rows `top`
+    /// and its multiplier rows `bottom`.
+    pub fn add_column(&mut self, col_coord: bool, top: &[f64], bottom: &[f64]) {
+        let (mx, sq) = max_and_squares(top);
+        self.add(true, col_coord, mx, sq);
+        let (mx, sq) = max_and_squares(bottom);
+        self.add(false, col_coord, mx, sq);
+    }
+
     pub fn merge(&mut self, o: &BlockSizes) {
         self.add(true, true, o.k_max, o.k_sq);
         self.add(true, false, o.c_max, o.c_sq);
@@ -116,10 +125,11 @@ impl BlockSizes {
 
     /// The scaling of `D A D` for a matrix with `coords` coordinates.
     pub fn scale(&self, coords: usize) -> Scale {
-        let a2 = self.alpha() * self.alpha();
+        let alpha = self.alpha();
+        let a2 = alpha * alpha;
         Scale {
             coords,
-            alpha: self.alpha(),
+            alpha,
             fro: (self.k_sq + a2 * self.c_sq + a2 * a2 * self.z_sq).sqrt(),
         }
     }
@@ -138,6 +148,15 @@ impl Scale {
     /// The weight of row or column `i`.
     pub fn weight(&self, i: usize) -> f64 {
         if i < self.coords { 1.0 } else { self.alpha }
+    }
+
+    /// `Σ (D (x - y) D)²` over column `j` of two matrices, given as their
+    /// coordinate rows (`top`) and multiplier rows (`bottom`).
+    pub fn column_squares(&self, j: usize, top: (&[f64], &[f64]), bottom: (&[f64], &[f64])) -> f64 {
+        let a2 = self.alpha * self.alpha;
+        let col =
+            squares_of_difference(top.0, top.1) + a2 * squares_of_difference(bottom.0, bottom.1);
+        if j < self.coords { col } else { a2 * col }
     }
 
     /// `y ← D y`.
@@ -190,7 +209,7 @@ pub(crate) fn max_and_squares(x: &[f64]) -> (f64, f64) {
 }
 
 /// `Σ (x_i - y_i)²`, in lanes as [`max_and_squares`].
-pub(crate) fn squares_of_difference(x: &[f64], y: &[f64]) -> f64 {
+fn squares_of_difference(x: &[f64], y: &[f64]) -> f64 {
     let mut d = [0.0f64; 8];
     let (xs, ys) = (x.chunks_exact(8), y.chunks_exact(8));
     let (xr, yr) = (xs.remainder(), ys.remainder());
@@ -208,11 +227,10 @@ pub(crate) fn squares_of_difference(x: &[f64], y: &[f64]) -> f64 {
 /// The sizes of a dense Newton matrix with `coords` coordinates.
 pub(crate) fn dense_sizes(a: &DMatrix<f64>, coords: usize) -> BlockSizes {
     let mut s = BlockSizes::default();
-    for j in 0..a.ncols() {
-        for i in 0..a.nrows() {
-            let v = a[(i, j)].abs();
-            s.add(i < coords, j < coords, v, v * v);
-        }
+    let c = coords.min(a.nrows());
+    for (j, col) in a.column_iter().enumerate() {
+        let (top, bottom) = col.as_slice().split_at(c);
+        s.add_column(j < c, top, bottom);
     }
     s
 }

@@ -20,7 +20,7 @@
 //! is orthogonal to that direction to rounding, which the fixed irregular start
 //! vector below makes practically impossible.
 
-use super::condition::{BlockSizes, Scale, max_and_squares, squares_of_difference};
+use super::condition::{BlockSizes, Scale, max_and_squares};
 use faer::Mat;
 use std::cell::Cell;
 
@@ -231,6 +231,11 @@ impl Lu {
         r <= 1e-8 * (b_max + self.a_max * x_max)
     }
 
+    /// The unknowns that are coordinates (the first).
+    pub fn coords(&self) -> usize {
+        self.coords
+    }
+
     /// The scaling of [`super::condition`] for the matrix last factorised.
     pub fn scale(&self) -> Scale {
         if let Some(s) = self.scale.get() {
@@ -253,10 +258,7 @@ impl Lu {
         let c = self.coords.min(self.dim());
         for j in 0..self.dim() {
             let (top, bottom) = self.a.col_as_slice(j).split_at(c);
-            let (mx, sq) = max_and_squares(top);
-            sizes.add(true, j < c, mx, sq);
-            let (mx, sq) = max_and_squares(bottom);
-            sizes.add(false, j < c, mx, sq);
+            sizes.add_column(j < c, top, bottom);
         }
         sizes
     }
@@ -269,7 +271,6 @@ impl Lu {
             return f64::INFINITY;
         }
         let s = self.scale();
-        let a2 = s.alpha * s.alpha;
         if !self.blocks.is_empty() {
             let mut d = 0.0f64;
             for blk in &self.blocks {
@@ -287,11 +288,8 @@ impl Lu {
         let mut d = 0.0f64;
         for j in 0..self.dim() {
             let (x, y) = (self.a.col_as_slice(j), b.col_as_slice(j));
-            let (x_top, x_bottom) = x.split_at(c);
-            let (y_top, y_bottom) = y.split_at(c);
-            let col = squares_of_difference(x_top, y_top)
-                + a2 * squares_of_difference(x_bottom, y_bottom);
-            d += if j < c { col } else { a2 * col };
+            let ((xt, xb), (yt, yb)) = (x.split_at(c), y.split_at(c));
+            d += s.column_squares(j, (xt, yt), (xb, yb));
         }
         d.sqrt() / s.fro
     }

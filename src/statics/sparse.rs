@@ -16,7 +16,7 @@
 //! as every pivot keeps at least [`PIVOT_THRESHOLD`] of the largest entry
 //! left in its column; otherwise it is factorised afresh with new pivots.
 
-use super::condition::{BlockSizes, Scale, max_and_squares, squares_of_difference};
+use super::condition::{BlockSizes, Scale, max_and_squares};
 use super::pattern::Pattern;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
@@ -334,10 +334,7 @@ impl SparseLu {
         let mut sizes = BlockSizes::default();
         for j in 0..p.dim() {
             let (start, mid, end) = (p.col_ptr[j], p.coord_end[j], p.col_ptr[j + 1]);
-            let (mx, sq) = max_and_squares(&self.a[start..mid]);
-            sizes.add(true, j < c, mx, sq);
-            let (mx, sq) = max_and_squares(&self.a[mid..end]);
-            sizes.add(false, j < c, mx, sq);
+            sizes.add_column(j < c, &self.a[start..mid], &self.a[mid..end]);
         }
         let s = sizes.scale(c);
         self.scale.set(Some(s));
@@ -351,13 +348,14 @@ impl SparseLu {
             return f64::INFINITY;
         }
         let (p, s) = (&*self.pattern, self.scale());
-        let a2 = s.alpha * s.alpha;
         let mut d = 0.0f64;
         for j in 0..p.dim() {
             let (start, mid, end) = (p.col_ptr[j], p.coord_end[j], p.col_ptr[j + 1]);
-            let col = squares_of_difference(&self.a[start..mid], &values[start..mid])
-                + a2 * squares_of_difference(&self.a[mid..end], &values[mid..end]);
-            d += if j < s.coords { col } else { a2 * col };
+            d += s.column_squares(
+                j,
+                (&self.a[start..mid], &values[start..mid]),
+                (&self.a[mid..end], &values[mid..end]),
+            );
         }
         d.sqrt() / s.fro
     }

@@ -137,7 +137,7 @@ impl Factorisation {
                 lu.factor(v)
             }
             _ => {
-                let coords = self.scale().coords;
+                let coords = self.coords();
                 *self = Factorisation::for_matrix(a, coords, || vec![(0..a.dim()).collect()]);
                 self.factor(a)
             }
@@ -218,6 +218,14 @@ impl Factorisation {
             solved
         })
         .unwrap_or(f64::INFINITY)
+    }
+
+    /// The unknowns that are coordinates (the first; the multipliers follow).
+    fn coords(&self) -> usize {
+        match self {
+            Factorisation::Dense(lu) => lu.coords(),
+            Factorisation::Sparse(lu) => lu.pattern().coords(),
+        }
     }
 
     /// The scaling of [`super::condition`] for the matrix last factorised.
