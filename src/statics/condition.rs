@@ -189,7 +189,7 @@ impl Scale {
 /// independent lanes: a single running max and sum is a chain of dependent
 /// scalar operations that cost as much as a fifth of the whole solve; lanes
 /// let the compiler use vector instructions.
-pub(crate) fn max_and_squares(x: &[f64]) -> (f64, f64) {
+fn max_and_squares(x: &[f64]) -> (f64, f64) {
     let (mut mx, mut sq) = ([0.0f64; 8], [0.0f64; 8]);
     let mut chunks = x.chunks_exact(8);
     for c in &mut chunks {
@@ -206,6 +206,24 @@ pub(crate) fn max_and_squares(x: &[f64]) -> (f64, f64) {
         sq[k] += v * v;
     }
     (mx.iter().fold(0.0f64, |m, v| m.max(*v)), sq.iter().sum())
+}
+
+/// The largest absolute value of `x`, in lanes as [`max_and_squares`]
+/// (every factorisation takes it, the sum of squares only a case's scale).
+pub(crate) fn largest(x: &[f64]) -> f64 {
+    let mut mx = [0.0f64; 8];
+    let mut chunks = x.chunks_exact(8);
+    for c in &mut chunks {
+        for k in 0..8 {
+            let v = c[k].abs();
+            mx[k] = if v > mx[k] { v } else { mx[k] };
+        }
+    }
+    for (k, v) in chunks.remainder().iter().enumerate() {
+        let v = v.abs();
+        mx[k] = if v > mx[k] { v } else { mx[k] };
+    }
+    mx.iter().fold(0.0f64, |m, v| m.max(*v))
 }
 
 /// `Σ (x_i - y_i)²`, in lanes as [`max_and_squares`].
@@ -291,6 +309,25 @@ mod tests {
     /// `σ_min / ‖D A D‖_F` of the SVD more than tenfold, and the estimate
     /// of both factorisations (dense and sparse) is within 1.3 of it, from
     /// above: the estimate a threshold is set on is that of the matrix.
+    /// The lanes give the plain running maximum and sum, whatever the
+    /// length's remainder, and a NaN entry does not replace the maximum.
+    #[test]
+    fn lanes_give_the_running_maximum_and_sum() {
+        for n in [0usize, 1, 7, 8, 9, 23] {
+            let mut x: Vec<f64> = (0..n).map(|i| ((i * 37 % 11) as f64 - 5.0) * 1.5).collect();
+            let max = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let sum: f64 = x.iter().map(|v| v * v).sum();
+            let (m, s) = max_and_squares(&x);
+            assert_eq!((largest(&x), m), (max, max), "n = {n}");
+            assert!((s - sum).abs() <= 1e-12 * sum.max(1.0), "n = {n}");
+            if n > 3 {
+                x[3] = f64::NAN;
+                assert_eq!(largest(&x), max, "n = {n}");
+                assert_eq!(max_and_squares(&x).0, max, "n = {n}");
+            }
+        }
+    }
+
     #[test]
     fn on_a_mechanism_the_weighed_estimate_is_close_and_far_from_singular() {
         use crate::statics::Problem;

@@ -20,7 +20,7 @@
 //! is orthogonal to that direction to rounding, which the fixed irregular start
 //! vector below makes practically impossible.
 
-use super::condition::{BlockSizes, Scale, max_and_squares};
+use super::condition::{BlockSizes, Scale, largest};
 use faer::Mat;
 use std::cell::Cell;
 
@@ -145,7 +145,7 @@ impl Lu {
         for (j, dst) in self.lu.chunks_exact_mut(n.max(1)).enumerate() {
             dst.copy_from_slice(a.col_as_slice(j));
         }
-        self.a_max = max_and_squares(&self.lu).0;
+        self.a_max = largest(&self.lu);
         self.scale.set(None);
         self.eliminate();
         let n = self.dim();
