@@ -48,28 +48,6 @@ struct Factors {
     u_val: Vec<f64>,
 }
 
-impl Factors {
-    /// The structure `refactor` and `solve` assume for `n` columns: column
-    /// pointers increasing from 0 to the end of their indices, each column of
-    /// L starting with its diagonal and each of U ending with it, and every
-    /// row index below `n`, so that their loops may index the dense column
-    /// without bounds checks (a fifth of their instructions).
-    fn well_formed(&self, n: usize) -> bool {
-        let columns = |ptr: &[usize], idx: &[usize], val: &[f64]| {
-            ptr.len() == n + 1
-                && ptr[0] == 0
-                && ptr.windows(2).all(|w| w[0] < w[1])
-                && ptr[n] == idx.len()
-                && idx.len() == val.len()
-                && idx.iter().all(|&i| i < n)
-        };
-        columns(&self.l_ptr, &self.l_idx, &self.l_val)
-            && columns(&self.u_ptr, &self.u_idx, &self.u_val)
-            && (0..n)
-                .all(|j| self.l_idx[self.l_ptr[j]] == j && self.u_idx[self.u_ptr[j + 1] - 1] == j)
-    }
-}
-
 /// A pivot sequence and the factors' structure to start refactorising from
 /// (kept in the [`Pattern`], so that every solver of the problem starts
 /// from the same one: a fresh factorisation costs 10-30 refactorisations).
@@ -136,8 +114,6 @@ impl SparseLu {
             res: vec![0.0; n],
         };
         if let Some(pv) = start {
-            // A seed comes from a valid factorisation of this pattern.
-            debug_assert!(pv.own.well_formed(n));
             (lu.own, lu.row_perm, lu.row_perm_inv) = (pv.own, pv.row_perm, pv.row_perm_inv);
             lu.reusable = true;
             lu.positions();
@@ -227,23 +203,19 @@ impl SparseLu {
         }
         let (l, u) = (self.lu.l_factor_unsorted(), self.lu.u_factor_unsorted());
         let f = &mut self.own;
-        // faer's index and value arrays may run past the last column's end.
-        let (ln, un) = (l.symbolic().col_ptr()[n], u.symbolic().col_ptr()[n]);
-        let (Some(li), Some(lv), Some(ui), Some(uv)) = (
-            l.symbolic().row_idx().get(..ln),
-            l.val().get(..ln),
-            u.symbolic().row_idx().get(..un),
-            u.val().get(..un),
-        ) else {
-            return false;
-        };
         f.l_ptr.clone_from(&l.symbolic().col_ptr().to_vec());
-        f.l_idx.clone_from(&li.to_vec());
-        f.l_val.clone_from(&lv.to_vec());
+        f.l_idx.clone_from(&l.symbolic().row_idx().to_vec());
+        f.l_val.clone_from(&l.val().to_vec());
         f.u_ptr.clone_from(&u.symbolic().col_ptr().to_vec());
-        f.u_idx.clone_from(&ui.to_vec());
-        f.u_val.clone_from(&uv.to_vec());
-        f.well_formed(n)
+        f.u_idx.clone_from(&u.symbolic().row_idx().to_vec());
+        f.u_val.clone_from(&u.val().to_vec());
+        // The structure assumed by `refactor` and `substitute`.
+        (0..n).all(|j| {
+            f.l_ptr[j] < f.l_ptr[j + 1]
+                && f.l_idx[f.l_ptr[j]] == j
+                && f.u_ptr[j] < f.u_ptr[j + 1]
+                && f.u_idx[f.u_ptr[j + 1] - 1] == j
+        })
     }
 
     /// Left-looking LU of `self.a` with the pivots and structure of `own`;
@@ -265,9 +237,7 @@ impl SparseLu {
                     if ui != 0.0 {
                         let col = f.l_ptr[i] + 1..f.l_ptr[i + 1];
                         for (&r, l) in f.l_idx[col.clone()].iter().zip(&f.l_val[col]) {
-                            // SAFETY: `r < n == x.len()`: `own` is well formed
-                            // (`Factors::well_formed`, checked where it is made).
-                            unsafe { *x.get_unchecked_mut(r) -= l * ui };
+                            x[r] -= l * ui;
                         }
                     }
                 }
@@ -308,8 +278,7 @@ impl SparseLu {
             if yj != 0.0 {
                 let col = f.l_ptr[j] + 1..f.l_ptr[j + 1];
                 for (&r, l) in f.l_idx[col.clone()].iter().zip(&f.l_val[col]) {
-                    // SAFETY: `r < n == y.len()`, as in `refactor`.
-                    unsafe { *y.get_unchecked_mut(r) -= l * yj };
+                    y[r] -= l * yj;
                 }
             }
         }
@@ -320,8 +289,7 @@ impl SparseLu {
             if yj != 0.0 {
                 let col = f.u_ptr[j]..d;
                 for (&r, u) in f.u_idx[col.clone()].iter().zip(&f.u_val[col]) {
-                    // SAFETY: `r < n == y.len()`, as in `refactor`.
-                    unsafe { *y.get_unchecked_mut(r) -= u * yj };
+                    y[r] -= u * yj;
                 }
             }
         }
