@@ -304,11 +304,6 @@ mod tests {
         assert_eq!(BlockSizes::default().alpha(), 1.0);
     }
 
-    /// At the equilibria of a mechanism (two coupled McPherson corners,
-    /// table 5-1), weighing the multipliers raises the ratio
-    /// `σ_min / ‖D A D‖_F` of the SVD more than tenfold, and the estimate
-    /// of both factorisations (dense and sparse) is within 1.3 of it, from
-    /// above: the estimate a threshold is set on is that of the matrix.
     /// The lanes give the plain running maximum and sum, whatever the
     /// length's remainder, and a NaN entry does not replace the maximum.
     #[test]
@@ -321,6 +316,7 @@ mod tests {
             assert_eq!((largest(&x), m), (max, max), "n = {n}");
             assert!((s - sum).abs() <= 1e-12 * sum.max(1.0), "n = {n}");
             if n > 3 {
+                // (the largest, 7.5, is at index 0)
                 x[3] = f64::NAN;
                 assert_eq!(largest(&x), max, "n = {n}");
                 assert_eq!(max_and_squares(&x).0, max, "n = {n}");
@@ -328,6 +324,11 @@ mod tests {
         }
     }
 
+    /// At the equilibria of a mechanism (two coupled McPherson corners,
+    /// table 5-1), weighing the multipliers raises the ratio
+    /// `σ_min / ‖D A D‖_F` of the SVD more than tenfold, and the estimate
+    /// of both factorisations (dense and sparse) is within 1.3 of it, from
+    /// above: the estimate a threshold is set on is that of the matrix.
     #[test]
     fn on_a_mechanism_the_weighed_estimate_is_close_and_far_from_singular() {
         use crate::statics::Problem;
