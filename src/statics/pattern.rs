@@ -17,6 +17,7 @@ use super::constraint::evaluate;
 use super::coords::State;
 use super::forces::for_each_element;
 use faer::sparse::SymbolicSparseColMatRef;
+use std::ops::Range;
 
 /// The slots of one equation's entries at one part's coordinates (see
 /// [`Pattern::constraint_block`]).
@@ -146,6 +147,12 @@ impl Pattern {
     /// The coordinates (the first rows and columns; the multipliers follow).
     pub fn coords(&self) -> usize {
         self.n
+    }
+
+    /// The slots of column `j`'s coordinate rows and of its multiplier rows.
+    pub fn column_halves(&self, j: usize) -> (Range<usize>, Range<usize>) {
+        let (start, mid, end) = (self.col_ptr[j], self.coord_end[j], self.col_ptr[j + 1]);
+        (start..mid, mid..end)
     }
 
     pub fn nnz(&self) -> usize {

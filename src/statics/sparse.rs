@@ -333,8 +333,8 @@ impl SparseLu {
         let (p, c) = (&*self.pattern, self.pattern.coords());
         let mut sizes = BlockSizes::default();
         for j in 0..p.dim() {
-            let (start, mid, end) = (p.col_ptr[j], p.coord_end[j], p.col_ptr[j + 1]);
-            sizes.add_column(j < c, &self.a[start..mid], &self.a[mid..end]);
+            let (top, bottom) = p.column_halves(j);
+            sizes.add_column(j < c, &self.a[top], &self.a[bottom]);
         }
         let s = sizes.scale(c);
         self.scale.set(Some(s));
@@ -350,11 +350,11 @@ impl SparseLu {
         let (p, s) = (&*self.pattern, self.scale());
         let mut d = 0.0f64;
         for j in 0..p.dim() {
-            let (start, mid, end) = (p.col_ptr[j], p.coord_end[j], p.col_ptr[j + 1]);
+            let (top, bottom) = p.column_halves(j);
             d += s.column_squares(
                 j,
-                (&self.a[start..mid], &values[start..mid]),
-                (&self.a[mid..end], &values[mid..end]),
+                (&self.a[top.clone()], &values[top]),
+                (&self.a[bottom.clone()], &values[bottom]),
             );
         }
         d.sqrt() / s.fro
