@@ -5,20 +5,12 @@
 use axle::check::{check_str, mirror_frame};
 use axle::geom::{Mat3, Vec3};
 use axle::model::Model;
-use axle::statics::{self, Equilibrium};
+use axle::statics::Equilibrium;
+use axle::statics::newton::FORCE_TOL;
 
-fn model(file: &str) -> Model {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(file);
-    let text = std::fs::read_to_string(&path).expect("readable");
-    let (_, checked) = check_str(file, &text);
-    assert!(!checked.problems.has_errors(), "{:?}", checked.problems);
-    checked.model.expect("checks clean")
-}
+mod common;
 
-fn solve(m: &Model, set: &str) -> Vec<Equilibrium> {
-    let id = m.load_set_named(set).expect("the set exists");
-    statics::solve_set(m, id).expect("solves")
-}
+use common::{example as model, share_of_stopping, solve, stopping};
 
 fn pose(m: &Model, e: &Equilibrium, part: &str) -> (Vec3, Mat3) {
     e.state
@@ -104,25 +96,35 @@ fn in_parallel_bump_each_side_moves_as_the_single_corner() {
     assert_eq!(a.len(), s.len());
     assert_eq!(a.len(), 57);
     let mirror = reflect();
-    let mut worst = (0.0f64, 0.0f64, 0.0f64);
-    for (ea, es) in a.iter().zip(&s) {
+    let (stop_a, stop_s) = (stopping(&axle, &a), stopping(&single, &s));
+    // Largest difference (mm, rotation), bar twist, share of the stopping
+    // errors (`common::share_of_stopping`), largest stopping error (mm).
+    let mut worst = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for (k, (ea, es)) in a.iter().zip(&s).enumerate() {
         for part in ["front_arm", "rear_arm", "tie_rod", "strut", "upright"] {
             let (ts, rs) = pose(&single, es, part);
-            let (tl, rl) = pose(&axle, ea, &format!("front_left.{part}"));
-            let (tr, rr) = pose(&axle, ea, &format!("front_right.{part}"));
-            worst.0 = worst.0.max((tl - ts).norm());
-            worst.0 = worst.0.max((tr - mirror * ts).norm());
-            worst.1 = worst.1.max((rl - rs).norm());
-            worst.1 = worst.1.max((rr - mirror * rs * mirror).norm());
+            let b = stop_s[k][part];
+            for (side, flip) in [("front_left", Mat3::identity()), ("front_right", mirror)] {
+                let name = format!("{side}.{part}");
+                let (t, r) = pose(&axle, ea, &name);
+                let (d, dr) = ((t - flip * ts).norm(), (r - flip * rs * flip).norm());
+                let a = stop_a[k][&name];
+                worst.0 = worst.0.max(d);
+                worst.1 = worst.1.max(dr);
+                worst.3 = worst.3.max(share_of_stopping(d, dr, a, b));
+                worst.4 = worst.4.max(a.0.max(b.0));
+            }
         }
         let twist = bar_angle(&axle, ea, "bar.half_left") - bar_angle(&axle, ea, "bar.half_right");
         worst.2 = worst.2.max(twist.abs());
     }
     eprintln!(
-        "largest difference: {:.2e} mm, {:.2e} (rotation); bar twist {:.2e} rad",
-        worst.0, worst.1, worst.2
+        "largest difference: {:.2e} mm, {:.2e} (rotation), {:.2} of the stopping errors (up to {:.2e} mm); bar twist {:.2e} rad",
+        worst.0, worst.1, worst.3, worst.4, worst.2
     );
-    assert!(worst.0 < 1e-8 && worst.1 < 1e-10, "{worst:?}");
+    // Each side is the single corner (mirrored) up to where the solves
+    // stopped, which is far below any difference of the mechanisms.
+    assert!(worst.3 <= 1.0 && worst.4 < 1e-4, "{worst:?}");
     assert!(
         worst.2 < 1e-10,
         "the bar twists in parallel travel: {worst:?}"
@@ -149,6 +151,9 @@ fn in_roll_the_bar_twists_and_each_half_balances_about_its_hinge() {
     let eqs = solve(&m, "roll");
     assert_eq!(eqs.len(), 17);
     let k_torsion = 15000.0; // N*mm/deg, the example's argument
+    let length = axle::statics::Problem::new(&m).expect("compiles").length;
+    // Twist misfit (deg); moment balance's misfit as a share of what the
+    // solve's stopping rule allows.
     let mut worst = (0.0f64, 0.0f64);
     for (k, e) in eqs.iter().enumerate() {
         let name = &m.load_sets[set.index()].cases[k].name;
@@ -169,16 +174,20 @@ fn in_roll_the_bar_twists_and_each_half_balances_about_its_hinge() {
         let (p, f) = (link.point, link.force);
         let hinge = [-250.0, 400.0, 250.0];
         let my = (p[2] - hinge[2]) * f[0] - (p[0] - hinge[0]) * f[2];
-        worst.1 = worst
-            .1
-            .max((my.abs() - moment.abs()).abs() / moment.abs().max(1.0));
+        // The solve stops with the half's residual torque about its origin
+        // (the global origin) below FORCE_TOL F L and each residual force
+        // component below FORCE_TOL F; about the hinge, d = origin - hinge,
+        // the force adds (d x f)_y = d_z f_x - d_x f_z.
+        let tol = FORCE_TOL * e.force_scale;
+        let allowed = tol * (length + hinge[0].abs() + hinge[2].abs());
+        worst.1 = worst.1.max((my.abs() - moment.abs()).abs() / allowed);
     }
     eprintln!(
-        "twist misfit {:.2e} deg, moment balance {:.2e} (relative)",
+        "twist misfit {:.2e} deg, moment balance {:.2e} of its tolerance",
         worst.0, worst.1
     );
     assert!(worst.0 < 1e-9, "{worst:?}");
-    assert!(worst.1 < 1e-8, "{worst:?}");
+    assert!(worst.1 <= 1.0, "{worst:?}");
     // At the roll's extreme (left +1000 N, right -1000 N) the bar does work.
     let r = axle::output::report::case_report(&m, "roll_005", 5, &eqs[4]);
     assert!(r.bushings["bar.torsion"].deformation[4].abs() > 5.0);

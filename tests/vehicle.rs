@@ -9,7 +9,7 @@ use axle::statics::{self, Equilibrium};
 
 mod common;
 
-use common::{checked, example, solve};
+use common::{checked, example, share_of_stopping, solve, stopping};
 
 fn metrics(m: &Model, set: &str) -> Vec<axle::kc::AxleMetrics> {
     let id = m.load_set_named(set).expect("set");
@@ -18,29 +18,52 @@ fn metrics(m: &Model, set: &str) -> Vec<axle::kc::AxleMetrics> {
     axle::kc::axle_metrics(m, &axle::kc::kc_rows(m, id, &states))
 }
 
-/// The largest pose difference (mm, rotation) of every part named in
-/// `a` (model `ma`) that `b` (model `mb`) also has, case by case.
-fn worst_difference(
-    ma: &Model,
-    ea: &[Equilibrium],
-    mb: &Model,
-    eb: &[Equilibrium],
-) -> (f64, f64, usize) {
+/// How two solves of the parts named in both `a` (model `ma`) and `b`
+/// (model `mb`) differ, case by case.
+struct Difference {
+    /// Parts compared.
+    parts: usize,
+    /// Largest difference of a part's origin (mm) and rotation (Frobenius).
+    mm: f64,
+    rotation: f64,
+    /// Largest share of the two solves' stopping errors (see
+    /// `common::share_of_stopping`: at most 1 for the same mechanism).
+    share: f64,
+    /// Largest stopping error of a compared part (mm): what the share is of.
+    stop_mm: f64,
+}
+
+fn worst_difference(ma: &Model, ea: &[Equilibrium], mb: &Model, eb: &[Equilibrium]) -> Difference {
     assert_eq!(ea.len(), eb.len());
-    let mut worst = (0.0f64, 0.0f64, 0usize);
+    let (sa, sb) = (stopping(ma, ea), stopping(mb, eb));
+    let mut worst = Difference {
+        parts: 0,
+        mm: 0.0,
+        rotation: 0.0,
+        share: 0.0,
+        stop_mm: 0.0,
+    };
     for p in ma.moving_parts() {
         let name = &ma.part(p).name;
         let Some(q) = mb.part_named(name) else {
             continue;
         };
-        worst.2 += 1;
-        for (x, y) in ea.iter().zip(eb) {
+        worst.parts += 1;
+        for (k, (x, y)) in ea.iter().zip(eb).enumerate() {
             let (ta, ra) = x.state.part_pose(p);
             let (tb, rb) = y.state.part_pose(q);
-            worst.0 = worst.0.max((ta - tb).norm());
-            worst.1 = worst.1.max((ra - rb).norm());
+            let (d, r) = ((ta - tb).norm(), (ra - rb).norm());
+            let (a, b) = (sa[k][name], sb[k][name]);
+            worst.mm = worst.mm.max(d);
+            worst.rotation = worst.rotation.max(r);
+            worst.share = worst.share.max(share_of_stopping(d, r, a, b));
+            worst.stop_mm = worst.stop_mm.max(a.0.max(b.0));
         }
     }
+    eprintln!(
+        "{} parts: {:.2e} mm, {:.2e} (rotation), {:.2} of the stopping errors (up to {:.2e} mm)",
+        worst.parts, worst.mm, worst.rotation, worst.share, worst.stop_mm
+    );
     worst
 }
 
@@ -83,12 +106,13 @@ fn the_front_axle_of_the_car_moves_as_the_front_axle_example() {
     let front = example("examples/front_axle.axle");
     let (ec, ef) = (solve(&car, "front_bump"), solve(&front, "parallel_bump"));
     let worst = worst_difference(&front, &ef, &car, &ec);
-    eprintln!(
-        "front: {} parts, {:.2e} mm, {:.2e} (rotation)",
-        worst.2, worst.0, worst.1
-    );
-    assert_eq!(worst.2, 15, "every moving part of the front axle");
-    assert!(worst.0 < 1e-8 && worst.1 < 1e-10, "{worst:?}");
+    assert_eq!(worst.parts, 15, "every moving part of the front axle");
+    // The same poses up to where each solve stopped (the two models' force
+    // scales and lengths differ, so their solves stop at other iterates)...
+    assert!(worst.share <= 1.0, "{:.2}", worst.share);
+    // ... which is far below any difference of the mechanisms (a hardpoint
+    // written 0.01 mm off moves the parts by about that much).
+    assert!(worst.stop_mm < 1e-4, "{:.2e}", worst.stop_mm);
 }
 
 /// The two rear corners alone, swept as the car's `rear_bump` sweeps them.
@@ -114,15 +138,12 @@ fn the_rear_axle_of_the_car_moves_as_the_two_corners_alone() {
     let rear = checked("rear.axle", REAR);
     let (ec, er) = (solve(&car, "rear_bump"), solve(&rear, "rear_bump"));
     let worst = worst_difference(&rear, &er, &car, &ec);
-    eprintln!(
-        "rear: {} parts, {:.2e} mm, {:.2e} (rotation)",
-        worst.2, worst.0, worst.1
-    );
-    assert_eq!(worst.2, 12);
-    // The two solves stop at different Newton iterates: the convergence test
-    // is relative to the model's scale, and 1e-10 of the rear corners' 2700 mm
-    // from the origin is a few 1e-7 mm.
-    assert!(worst.0 < 1e-6 && worst.1 < 1e-9, "{worst:?}");
+    assert_eq!(worst.parts, 12);
+    // As for the front axle: the same poses up to where each solve stopped.
+    // The links' origins lie 2700 mm from their bushings, so a link's spin
+    // (held only by its bushing's torsion) moves them most.
+    assert!(worst.share <= 1.0, "{:.2}", worst.share);
+    assert!(worst.stop_mm < 1e-4, "{:.2e}", worst.stop_mm);
 }
 
 /// The curb loads are the design position's: every wheel within 3 mm of

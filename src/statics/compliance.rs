@@ -5,10 +5,10 @@ use super::assembly::{assemble, col_scale};
 use super::coords::marker_kin;
 use super::error::{StaticsError, StaticsErrorKind};
 use super::forces::point_load;
-use super::newton::{kkt, solve_dense};
+use super::newton::{CONSTRAINT_TOL, FORCE_TOL, kkt, solve_dense};
 use super::{Equilibrium, Problem};
 use crate::geom::Vec3;
-use crate::model::{ElementId, MarkerId, PointLoad};
+use crate::model::{ElementId, MarkerId, PartId, PointLoad};
 use nalgebra::DVector;
 
 /// The 6×6 compliance of a marker at an equilibrium: column `c` is the marker's
@@ -73,4 +73,126 @@ pub fn compliance(
         }
     }
     Ok(out)
+}
+
+/// How far from the exact equilibrium a solve may have stopped, for one
+/// moving part, to first order.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StoppingError {
+    pub part: PartId,
+    /// Bound on the distance of the part's origin from its exact place (mm).
+    pub distance: f64,
+    /// Bound on the angle of the part's rotation from its exact one (rad).
+    pub angle: f64,
+}
+
+/// How far from the exact equilibrium a solve may have stopped, part by
+/// part (see [`StoppingError`]).
+///
+/// Newton stops once every scaled force residual is below
+/// [`FORCE_TOL`] of [`Equilibrium::force_scale`] and every constraint
+/// residual below [`CONSTRAINT_TOL`] of the length; a residual `r` leaves
+/// the coordinates `A⁻¹ r` from the exact equilibrium (`A` the Newton
+/// matrix), so coordinate `i` is within `Σ_j |A⁻¹_ij| tol_j`. Two solves of
+/// the same mechanism (along other paths, or as part of a larger model) can
+/// stop at iterates as far apart as the sum of their bounds, which is what a
+/// comparison of their poses must allow and no more.
+pub fn stopping_error(
+    problem: &Problem,
+    eq: &Equilibrium,
+) -> Result<Vec<StoppingError>, StaticsError> {
+    let p = problem;
+    let st = &eq.state;
+    let sys = assemble(p, st, &st.loads)?;
+    let a = kkt(&sys);
+    let (n, m) = (sys.k.nrows(), sys.jac.nrows());
+    let nn = n + m;
+    let fa = faer::MatRef::from_column_major_slice(a.as_slice(), nn, nn);
+    let inverse = faer::linalg::solvers::DenseSolveCore::inverse(&fa.partial_piv_lu());
+    let tol = |j: usize| {
+        if j < n {
+            FORCE_TOL * eq.force_scale
+        } else {
+            CONSTRAINT_TOL * p.length
+        }
+    };
+    let mut bound = vec![0.0; n];
+    for (i, b) in bound.iter_mut().enumerate() {
+        *b = (0..nn).map(|j| inverse[(i, j)].abs() * tol(j)).sum::<f64>();
+    }
+    if !bound.iter().all(|b| b.is_finite()) {
+        return Err(StaticsError::new(
+            StaticsErrorKind::Unrestrained,
+            vec![],
+            "the linearised system is singular at this equilibrium, so the distance to the exact equilibrium is unbounded",
+        ));
+    }
+    // Each component within its bound: the vector within their norm. The
+    // rotation coordinates are scaled by the length (see `col_scale`).
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    Ok(p.layout
+        .moving
+        .iter()
+        .zip(bound.chunks(6))
+        .map(|(&part, c)| StoppingError {
+            part,
+            distance: norm(&c[..3]),
+            angle: norm(&c[3..]) * col_scale(3, p.length),
+        })
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One part on one bushing at its origin: translations and rotations
+    /// decouple, and each coordinate's error is its residual's tolerance
+    /// over its stiffness: `FORCE_TOL F / k` (mm) and, the torque rows
+    /// being scaled by the length, `FORCE_TOL F L / k_t` (rad); three
+    /// components each make `√3` of that.
+    #[test]
+    fn a_part_on_one_bushing_stops_within_its_tolerance_over_its_stiffness() {
+        let (_, c) = crate::check::check_str(
+            "block.axle",
+            "model block
+ground frame {
+    marker B at (0, 0, 0) mm
+    marker far at (0, 0, 400) mm
+}
+part block {
+    marker B at (0, 0, 0) mm
+}
+bushing B {
+    i block.B
+    j frame.B
+    k_radial 2000 N/mm
+    k_axial 2000 N/mm
+    kt_radial 5000 N*mm/deg
+    kt_axial 5000 N*mm/deg
+}
+loads push table (block.B.fz N, block.B.fx N) {
+    c1 300 -100
+}
+",
+        );
+        let model = c.model.expect("checks clean");
+        let problem = Problem::new(&model).expect("compiles");
+        let set = model.load_set_named("push").expect("set");
+        let eq = &crate::statics::solve_set(&model, set).expect("solves")[0];
+        let f = eq.force_scale;
+        // The load's magnitude, which the bushing's force balances.
+        let load = (300.0f64 * 300.0 + 100.0 * 100.0).sqrt();
+        assert!((f - load).abs() < 1e-6 * load, "{f}");
+        let e = stopping_error(&problem, eq).expect("regular");
+        assert_eq!(e.len(), 1);
+        let k_t = 5000.0_f64.to_degrees();
+        let distance = 3f64.sqrt() * FORCE_TOL * f / 2000.0;
+        let angle = 3f64.sqrt() * FORCE_TOL * f * problem.length / k_t;
+        assert!(
+            (e[0].distance - distance).abs() < 1e-3 * distance,
+            "{e:?} {distance}"
+        );
+        assert!((e[0].angle - angle).abs() < 1e-3 * angle, "{e:?} {angle}");
+    }
 }

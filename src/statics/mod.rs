@@ -31,7 +31,7 @@ mod tangent;
 mod testkit;
 pub mod wrench;
 
-pub use compliance::compliance;
+pub use compliance::{StoppingError, compliance, stopping_error};
 pub use coords::State;
 pub use error::{StaticsError, StaticsErrorKind};
 pub use mobility::{Mobility, Motion};
@@ -137,6 +137,12 @@ pub struct Equilibrium {
     /// Final residual: the larger of the force residual relative to the force
     /// scale at the equilibrium (its largest element force or applied load) and the constraint residual relative to the characteristic length.
     pub residual: f64,
+    /// The force (N) `residual` is relative to: the largest element force
+    /// or applied load at the equilibrium. With the characteristic length
+    /// [`Problem::length`] it says how far from the exact equilibrium the
+    /// solve may have stopped: a force residual of `FORCE_TOL` times this
+    /// along the model's softest direction.
+    pub force_scale: f64,
     pub reactions: Vec<Reaction>,
 }
 
@@ -467,6 +473,7 @@ fn finish(
         factorizations: sv.factorizations,
         substeps,
         residual: ef.max(ec),
+        force_scale: sv.ws.force_scale(),
         reactions,
     })
 }

@@ -69,3 +69,30 @@ pub fn solve(m: &axle::model::Model, set: &str) -> Vec<axle::statics::Equilibriu
     let id = m.load_set_named(set).expect("the set exists");
     axle::statics::solve_set(m, id).expect("solves")
 }
+
+/// Case by case, how far each solve may have stopped from its exact
+/// equilibrium (`statics::stopping_error`): part name -> (mm, rad).
+pub fn stopping(
+    m: &axle::model::Model,
+    eqs: &[axle::statics::Equilibrium],
+) -> Vec<std::collections::HashMap<String, (f64, f64)>> {
+    let problem = axle::statics::Problem::new(m).expect("compiles");
+    eqs.iter()
+        .map(|e| {
+            axle::statics::stopping_error(&problem, e)
+                .expect("a regular equilibrium")
+                .iter()
+                .map(|s| (m.part(s.part).name.clone(), (s.distance, s.angle)))
+                .collect()
+        })
+        .collect()
+}
+
+/// Two solves of the same mechanism agree when each part's poses differ by
+/// no more than the two solves' stopping errors together: `d` the origins'
+/// distance (mm), `r` the rotations' difference `‖R_a - R_b‖` (Frobenius,
+/// at most `√2` times the angle between them). Returns the difference's
+/// share of what is allowed (at most 1 when they agree).
+pub fn share_of_stopping(d: f64, r: f64, a: (f64, f64), b: (f64, f64)) -> f64 {
+    (d / (a.0 + b.0)).max(r / (2f64.sqrt() * (a.1 + b.1)))
+}
