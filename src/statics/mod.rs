@@ -16,6 +16,7 @@ mod condition;
 pub mod constraint;
 pub mod coords;
 pub mod error;
+mod extrapolation;
 pub mod forces;
 pub mod friction;
 mod linear;
@@ -279,6 +280,11 @@ pub(crate) fn solve_reusing(
         .ended_at
         .take()
         .is_some_and(|e| e.poses == start.poses && e.lambda == start.lambda);
+    // Not across a friction's stick/slip kink: the correction of a case
+    // that slipped is no guide to one that sticks.
+    let smooth = problem.model.frictions.is_empty();
+    sv.extrapolation
+        .begin(&start.loads, loads, sv.predict && smooth);
     let mut state = start.clone();
     if state.lambda.len() != m {
         state.lambda = vec![0.0; m];
@@ -334,6 +340,7 @@ pub(crate) fn solve_reusing(
             Err(Failure::Stalled(at)) => {
                 iterations += 1;
                 sv.predict = false;
+                sv.extrapolation.abandon();
                 ds /= 2.0;
                 if ds < MIN_STEP {
                     return Err(not_converged(problem, &at, &l, force));
@@ -342,6 +349,10 @@ pub(crate) fn solve_reusing(
         }
         evaluated = false;
     }
+    if steps != 1 {
+        sv.extrapolation.abandon();
+    }
+    sv.extrapolation.end();
     let eq = finish(problem, state, iterations, steps.saturating_sub(1), sv)?;
     sv.ended_at = Some(eq.state.clone());
     Ok(eq)

@@ -14,6 +14,7 @@ use super::Problem;
 use super::assembly::{System, Workspace, col_scale};
 use super::coords::State;
 use super::error::{StaticsError, StaticsErrorKind};
+use super::extrapolation::Extrapolation;
 use super::mobility::describe_motion;
 use super::tangent::Factorisation;
 use crate::model::{ElementId, PointLoad};
@@ -66,6 +67,14 @@ pub(crate) struct Solver {
     /// Load (sub-)step attempts this solve may still take (a path's budget,
     /// [`super::path::Simulator::with_budget`]); `None`: unlimited.
     pub attempts_left: Option<usize>,
+    /// The second-order part of the last case's prediction, added to this
+    /// case's when their load steps agree.
+    pub extrapolation: Extrapolation,
+    /// The step length the last successful line search took.
+    alpha: f64,
+    /// Whether the line search's trials add the extrapolation's correction
+    /// (the prediction's).
+    correct: bool,
     x: Vec<f64>,
     b: Vec<f64>,
     dq: DVector<f64>,
@@ -85,6 +94,9 @@ impl Solver {
             rcond: None,
             ended_at: None,
             attempts_left: None,
+            extrapolation: Extrapolation::default(),
+            alpha: 1.0,
+            correct: false,
             x: vec![0.0; n + m],
             b: vec![0.0; n + m],
             dq: DVector::zeros(n),
@@ -180,10 +192,18 @@ pub(crate) fn newton(
         if predicted {
             if sv.lu.dim() == n + m && sv.lu.solve(&mut sv.x) {
                 let biggest = sv.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
-                if biggest <= 0.5 * p.length && line_search(p, loads, st, force, homotopy, sv) {
+                sv.correct = sv.extrapolation.apply;
+                let taken =
+                    biggest <= 0.5 * p.length && line_search(p, loads, st, force, homotopy, sv);
+                sv.correct = false;
+                if taken {
+                    if sv.alpha < 1.0 {
+                        sv.extrapolation.abandon();
+                    }
                     continue;
                 }
             }
+            sv.extrapolation.abandon();
             // Back to the state this iteration started from, and a Newton step.
             sv.ws.eval(p, st, loads, true).map_err(fatal)?;
             sv.ws.release(homotopy);
@@ -228,6 +248,7 @@ pub(crate) fn newton(
             // iteration uses; taken once per solve, it cannot cycle.
             if kink_step && !super::friction::near_limit(&p.model, &p.layout, st).is_empty() {
                 kink_step = false;
+                sv.extrapolation.abandon();
                 copy_state(&mut sv.trial, st);
                 for i in 0..n {
                     sv.dq[i] = sv.x[i] * sv.ws.scale[i];
@@ -253,6 +274,11 @@ pub(crate) fn newton(
             }
             return Err(Failure::Stalled(st.clone()));
         }
+        // The step taken: `sv.dq` from the state before it (now in
+        // `sv.trial`), and the multipliers' change.
+        let dl = st.lambda.iter().zip(&sv.trial.lambda).map(|(a, b)| a - b);
+        sv.extrapolation
+            .record(&p.layout, &sv.trial, sv.dq.as_slice(), dl);
     }
     Err(Failure::Stalled(st.clone()))
 }
@@ -280,11 +306,15 @@ fn line_search(
         for k in 0..m {
             sv.trial.lambda[k] += alpha * sv.x[n + k] / sv.ws.row_scale[k];
         }
+        if sv.correct {
+            sv.extrapolation.correct(&p.layout, &mut sv.trial, alpha);
+        }
         if sv.ws.eval(p, &sv.trial, loads, true).is_ok() {
             sv.ws.release(homotopy);
             let m1 = sv.ws.merit(p, force);
             if m1.is_finite() && m1 < (1.0 - 1e-4 * alpha) * m0 {
                 std::mem::swap(st, &mut sv.trial);
+                sv.alpha = alpha;
                 return true;
             }
         }
