@@ -248,10 +248,7 @@ fn requests(o: &mut String, m: &Model, plan: &Plan) {
                 .flag("DISPLACEMENT")
                 .arg("I", mk.to_string())
                 .arg("J", g.to_string())
-                .arg(
-                    "COMMENT",
-                    format!("wheel {} {what} X Y Z PSI THETA PHI", w.name),
-                )
+                .comment(&format!("wheel {} {what} X Y Z PSI THETA PHI", w.name))
                 .write(o);
         }
         // Toe and camber from the spin axis s = (spin - centre) / |spin - centre|
@@ -270,10 +267,7 @@ fn requests(o: &mut String, m: &Model, plan: &Plan) {
         let camber = format!("ASIN(-{dz}/DM({spin},{c}))*RTOD");
         Stmt::new("REQUEST", Some(next()))
             .named(&format!("wheel.{}.angles", w.name))
-            .arg(
-                "COMMENT",
-                format!("wheel {} F2 toe deg F3 camber deg", w.name),
-            )
+            .comment(&format!("wheel {} F2 toe deg F3 camber deg", w.name))
             .expr("F2", toe)
             .expr("F3", camber)
             .write(o);
@@ -282,10 +276,10 @@ fn requests(o: &mut String, m: &Model, plan: &Plan) {
         let (i, j) = (plan.marker(b.i), plan.marker(b.j));
         let mut s = Stmt::new("REQUEST", Some(next()))
             .named(&format!("{}.deformation", b.name))
-            .arg(
-                "COMMENT",
-                format!("bushing {} deformation in J axes mm and deg", b.name),
-            );
+            .comment(&format!(
+                "bushing {} deformation in J axes mm and deg",
+                b.name
+            ));
         for (f, e) in ["F2", "F3", "F4"].iter().zip(["DX", "DY", "DZ"]) {
             s = s.expr(f, format!("{e}({i},{j},{j})"));
         }
@@ -299,13 +293,10 @@ fn requests(o: &mut String, m: &Model, plan: &Plan) {
         };
         let mut s = Stmt::new("REQUEST", Some(next()))
             .named(&format!("{}.force", b.name))
-            .arg(
-                "COMMENT",
-                format!(
-                    "bushing {} force and torque on I in J axes N and N*mm",
-                    b.name
-                ),
-            );
+            .comment(&format!(
+                "bushing {} force and torque on I in J axes N and N*mm",
+                b.name
+            ));
         for c in [2, 3, 4, 6, 7, 8] {
             s = s.expr(&format!("F{c}"), format!("{func}({fid},0,{c},{j})"));
         }

@@ -92,6 +92,32 @@ impl Stmt {
         self
     }
 
+    /// `COMMENT = text`, cut at a word to fit one line: a string argument
+    /// cannot be continued, and Adams reads 80 columns and at most 80
+    /// characters a string (adams-formats.md). Long element names (an
+    /// instance's, `rear.torsion_right`) would otherwise push a request's
+    /// description past the edge; what is cut is the description's tail,
+    /// the request's content is in its functions and its view name.
+    pub fn comment(self, text: &str) -> Stmt {
+        let room = MAX_LINE - ", COMMENT = ".len();
+        if text.len() <= room {
+            return self.arg("COMMENT", text);
+        }
+        let mut cut = room;
+        while !text.is_char_boundary(cut) {
+            cut -= 1;
+        }
+        let head = &text[..cut];
+        // At a word when there is one to cut at (the next character a
+        // space ends a word too).
+        let at_word = text[cut..].starts_with(' ');
+        let kept = match head.rfind(' ') {
+            Some(k) if !at_word && k > 0 => &head[..k],
+            _ => head,
+        };
+        self.arg("COMMENT", kept.trim_end())
+    }
+
     pub fn expr(mut self, key: &str, e: impl Into<String>) -> Stmt {
         self.args.push(Arg::Expr(key.to_string(), e.into()));
         self
@@ -200,6 +226,33 @@ mod tests {
         assert_eq!(num(1.0e-6), "1E-06");
         assert_eq!(num(-2.5e12), "-2.5E+12");
         assert_eq!(num(f64::NAN), "0");
+    }
+
+    #[test]
+    fn a_long_comment_is_cut_at_a_word_within_80_columns() {
+        let name = "rear.torsion_right";
+        let text = format!("bushing {name} force and torque on I in J axes N and N*mm");
+        let mut out = String::new();
+        Stmt::new("REQUEST", Some(14))
+            .comment(&text)
+            .write(&mut out);
+        let line = out.lines().nth(1).expect("the comment line");
+        assert_eq!(
+            line,
+            ", COMMENT = bushing rear.torsion_right force and torque on I in J axes N and"
+        );
+        assert!(line.len() <= MAX_LINE);
+        // A short one is written whole; one without a space is cut at the edge.
+        let mut out = String::new();
+        Stmt::new("REQUEST", Some(1))
+            .comment("wheel left")
+            .write(&mut out);
+        assert_eq!(out.lines().nth(1), Some(", COMMENT = wheel left"));
+        let mut out = String::new();
+        Stmt::new("REQUEST", Some(1))
+            .comment(&"x".repeat(100))
+            .write(&mut out);
+        assert_eq!(out.lines().nth(1).map(str::len), Some(MAX_LINE));
     }
 
     #[test]
