@@ -11,7 +11,7 @@ use axle::statics::{self, Equilibrium};
 
 mod common;
 
-use common::{checked, example, solve};
+use common::{checked, example, share_of_stopping, solve, stopping};
 
 fn pose(m: &Model, e: &Equilibrium, part: &str) -> (Vec3, Mat3) {
     e.state
@@ -427,7 +427,10 @@ fn in_parallel_bump_the_twist_beam_does_not_twist_and_has_the_hand_wheel_rate() 
     let mut turn = 0.0f64;
     for (k, c) in e.iter().enumerate() {
         let r = axle::output::report::case_report(&m, "case", k + 1, c);
-        twist = twist.max(r.bushings["rear.torsion"].deformation[4].abs());
+        // The beam's twist: the halves' turns relative to its middle piece.
+        let [left, right] =
+            ["rear.torsion_left", "rear.torsion_right"].map(|b| r.bushings[b].deformation[4]);
+        twist = twist.max(left.abs()).max(right.abs());
         let (_, rot) = pose(&m, c, "rear.half_left");
         turn = turn.max(rot[(0, 2)].atan2(rot[(0, 0)]).abs().to_degrees());
     }
@@ -447,6 +450,57 @@ fn in_parallel_bump_the_twist_beam_does_not_twist_and_has_the_hand_wheel_rate() 
     for wheel in &a[0].wheels {
         close("wheel rate, N/mm", wheel.rate.expect("a rate"), rate, 2e-3);
     }
+}
+
+/// The twist-beam axle is its own mirror image, so in roll each side under
+/// the other's loads stands where the other stood, mirrored: the halves at
+/// step k and 18 - k of the example's roll sweep (left and right loads
+/// swapped), up to where the solves stopped; and the two wheels' roll steer
+/// and camber are equal and opposite. (Joined by one bushing, whose angles
+/// are read in one half's axes, the sides' roll steer was -0.0015 and
+/// -0.0025 deg/deg.)
+#[test]
+fn the_twist_beam_axle_in_roll_is_its_own_mirror_image() {
+    let m = example("examples/rear_twist_beam.axle");
+    let e = solve(&m, "roll");
+    assert_eq!(e.len(), 17);
+    let stop = stopping(&m, &e);
+    let s = reflect();
+    let mut worst = 0.0f64;
+    for k in 0..17 {
+        let k2 = 16 - k;
+        for (a, b) in [
+            ("rear.half_left", "rear.half_right"),
+            ("rear.half_right", "rear.half_left"),
+            ("rear.beam", "rear.beam"),
+        ] {
+            let (ta, ra) = pose(&m, &e[k], a);
+            let (tb, rb) = pose(&m, &e[k2], b);
+            let (d, r) = ((tb - s * ta).norm(), (rb - s * ra * s).norm());
+            worst = worst.max(share_of_stopping(d, r, stop[k][a], stop[k2][b]));
+        }
+    }
+    eprintln!("mirror misfit: {worst:.2} of the stopping errors");
+    assert!(worst <= 1.0, "{worst}");
+    let a = axle_metrics(&m, "roll");
+    let [l, r] = &a[0].wheels;
+    eprintln!(
+        "roll steer {:.6} / {:.6}, roll camber {:.6} / {:.6} deg/deg",
+        l.toe, r.toe, l.camber, r.camber
+    );
+    assert!(l.toe.abs() > 1e-4, "a roll steer to compare: {}", l.toe);
+    assert!(
+        (l.toe + r.toe).abs() < 1e-6 * l.toe.abs().max(1.0),
+        "{} {}",
+        l.toe,
+        r.toe
+    );
+    assert!(
+        (l.camber + r.camber).abs() < 1e-6 * l.camber.abs(),
+        "{} {}",
+        l.camber,
+        r.camber
+    );
 }
 
 /// In roll each half turns about the line from its pivot P to the beam's
