@@ -44,13 +44,19 @@ impl Json {
             .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
     }
 
-    fn indent(&mut self, depth: usize) {
-        const SPACES: &str = "                                ";
-        let mut n = 2 * depth;
-        while n > 0 {
-            let k = n.min(SPACES.len());
-            self.out.extend_from_slice(&SPACES.as_bytes()[..k]);
-            n -= k;
+    /// `sep` (`b",\n"` or `b"\n"`) and the indent of `depth` levels, in one
+    /// copy for the depths documents have (a copy per piece cost more than
+    /// the bytes).
+    fn line(&mut self, sep: &[u8], depth: usize) {
+        /// `,` then a newline, then the spaces of the deepest indent copied whole.
+        const LINE: &[u8; 2 + 2 * 16] = b",\n                                ";
+        let skip = 2 - sep.len();
+        match LINE.get(skip..2 + 2 * depth) {
+            Some(text) => self.out.extend_from_slice(text),
+            None => {
+                self.out.extend_from_slice(sep);
+                self.out.extend(std::iter::repeat_n(b' ', 2 * depth));
+            }
         }
     }
 
@@ -63,9 +69,8 @@ impl Json {
         if let Some(has) = self.open.last_mut() {
             let first = !*has;
             *has = true;
-            self.out
-                .extend_from_slice(if first { b"\n" } else { b",\n" });
-            self.indent(self.open.len());
+            let depth = self.open.len();
+            self.line(if first { b"\n" } else { b",\n" }, depth);
         }
     }
 
@@ -85,8 +90,7 @@ impl Json {
 
     fn end(&mut self, c: u8) {
         if self.open.pop() == Some(true) {
-            self.out.push(b'\n');
-            self.indent(self.open.len());
+            self.line(b"\n", self.open.len());
         }
         self.out.push(c);
     }
@@ -219,6 +223,19 @@ mod tests {
             "b": {"c": -1e-13, "d": null, "e": true, "f": "q\"\\\n\t\u{1}\u{7f}é"},
             "empty": {}, "g": 1234567.89049999
         });
+        let mut w = Json::new();
+        w.value(&v);
+        round_json(&mut v);
+        assert_eq!(w.finish(), format!("{v:#}\n"));
+    }
+
+    /// Deeper than the indents copied whole: the same bytes.
+    #[test]
+    fn deep_nesting_indents_as_serde_json() {
+        let mut v = serde_json::json!([1.5]);
+        for k in 0..20 {
+            v = serde_json::json!({ format!("k{k}"): [v, 2.0] });
+        }
         let mut w = Json::new();
         w.value(&v);
         round_json(&mut v);
