@@ -210,7 +210,8 @@ pub fn fixed(v: f64, decimals: usize, width: usize) -> String {
 
 /// `format!("{v:.decimals$}")` by integer arithmetic where that is exact:
 /// the table of a 500-case path has some 75 000 numbers, and the formatter's
-/// exact float printing cost as much as the solves.
+/// exact float printing was the larger part of the tables' cost (with the
+/// padding, two thirds of the solves').
 ///
 /// `q = |v| × 10^d` is one correctly rounded product, within half an ulp
 /// (below 2^40: at most 1.2e-4) of the exact scaled value, so rounding `q`
