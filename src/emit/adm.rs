@@ -4,7 +4,7 @@
 use super::error::EmitError;
 use super::forces;
 use super::plan::{PLACEHOLDER_INERTIA, PLACEHOLDER_MASS, Plan};
-use super::writer::{Stmt, deg, list, num};
+use super::writer::{MAX_LINE, Stmt, deg, list, num};
 use crate::geom::{Mat3, matrix_to_zxz};
 use crate::model::*;
 
@@ -194,7 +194,31 @@ pub fn emit_adm(m: &Model) -> Result<Deck, EmitError> {
     Stmt::new("OUTPUT", None).flag("REQSAVE").write(&mut o);
     Stmt::new("RESULTS", None).flag("XRF").write(&mut o);
     o.push_str("END\n");
+    if let Some(note) = long_view_names(&o) {
+        notes.push(note);
+    }
     Ok(Deck { text: o, notes })
+}
+
+/// The note for `adams_view_name` comments past the 80 columns of the
+/// dataset format: a statement is wrapped to fit, but a comment cannot be
+/// continued, so a long element name (an instance's, a long part name)
+/// leaves its line longer, and a reader that cuts lines at 80 columns cuts
+/// the name. The deck is still written whole.
+fn long_view_names(deck: &str) -> Option<String> {
+    let long: Vec<&str> = deck
+        .lines()
+        .filter(|l| l.len() > MAX_LINE && l.starts_with("!  adams_view_name="))
+        .collect();
+    let longest = long.iter().max_by_key(|l| l.len())?;
+    let name = longest
+        .trim_start_matches("!  adams_view_name='")
+        .trim_end_matches('\'');
+    Some(format!(
+        "{} adams_view_name comments are longer than the 80 columns of the dataset format (the longest, of `{name}`, {} characters): a reader that cuts lines at 80 columns cuts these names; shorter part and element names avoid it",
+        long.len(),
+        longest.len()
+    ))
 }
 
 fn loads(o: &mut String, m: &Model, plan: &Plan) {
@@ -301,5 +325,38 @@ fn requests(o: &mut String, m: &Model, plan: &Plan) {
             s = s.expr(&format!("F{c}"), format!("{func}({fid},0,{c},{j})"));
         }
         s.write(o);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A part whose name leaves its view-name comment past column 80 gets a
+    /// note naming it; the example's names do not.
+    #[test]
+    fn view_names_past_80_columns_are_noted() {
+        let source = include_str!("../../examples/single_bushing.axle");
+        let (_, c) = crate::check::check_str("single_bushing.axle", source);
+        let deck = emit_adm(&c.model.expect("the example checks")).expect("emits");
+        assert!(
+            deck.notes.iter().all(|n| !n.contains("80 columns")),
+            "{:?}",
+            deck.notes
+        );
+        let long = "a_trailing_arm_named_at_great_length_by_an_engineer_who_likes_words";
+        let renamed = source.replace("arm", long);
+        let (_, c) = crate::check::check_str("long.axle", &renamed);
+        let deck = emit_adm(&c.model.expect("the renamed example checks")).expect("emits");
+        let note = deck
+            .notes
+            .iter()
+            .find(|n| n.contains("80 columns"))
+            .expect("a note on the long names");
+        // Every long line is a view-name comment, and every one is counted.
+        let count: usize = note.split(' ').next().unwrap().parse().unwrap();
+        let lines = deck.text.lines().filter(|l| l.len() > MAX_LINE).count();
+        assert_eq!(count, lines, "{note}");
+        assert!(note.contains(long), "{note}");
     }
 }
