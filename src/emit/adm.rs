@@ -4,7 +4,7 @@
 use super::error::EmitError;
 use super::forces;
 use super::plan::{PLACEHOLDER_INERTIA, PLACEHOLDER_MASS, Plan};
-use super::writer::{MAX_LINE, Stmt, deg, list, num};
+use super::writer::{MAX_LINE, Stmt, VIEW_NAME, deg, list, num};
 use crate::geom::{Mat3, matrix_to_zxz};
 use crate::model::*;
 
@@ -208,12 +208,10 @@ pub fn emit_adm(m: &Model) -> Result<Deck, EmitError> {
 fn long_view_names(deck: &str) -> Option<String> {
     let long: Vec<&str> = deck
         .lines()
-        .filter(|l| l.len() > MAX_LINE && l.starts_with("!  adams_view_name="))
+        .filter(|l| l.len() > MAX_LINE && l.starts_with(VIEW_NAME))
         .collect();
     let longest = long.iter().max_by_key(|l| l.len())?;
-    let name = longest
-        .trim_start_matches("!  adams_view_name='")
-        .trim_end_matches('\'');
+    let name = longest[VIEW_NAME.len()..].trim_matches('\'');
     Some(format!(
         "{} adams_view_name comments are longer than the 80 columns of the dataset format (the longest, of `{name}`, {} characters): a reader that cuts lines at 80 columns cuts these names; shorter part and element names avoid it",
         long.len(),

@@ -8,6 +8,10 @@ use std::fmt::Write;
 /// Longest line written; Adams/Solver (FORTRAN) reads 80-column lines.
 pub const MAX_LINE: usize = 80;
 
+/// The comment line above a statement that carries its axle name, as
+/// Adams/View writes it: `!  adams_view_name='NAME'`.
+pub const VIEW_NAME: &str = "!  adams_view_name=";
+
 /// A real number with 12 significant digits: plain when that is short
 /// (`294.7`, `-0.015`), else Fortran exponent form (`5.72957795131E+05`).
 /// Twelve digits drop last-bit float noise (`0.1 + 0.2` is `0.3`) yet carry a
@@ -126,7 +130,7 @@ impl Stmt {
     /// Appends the statement to `out`.
     pub fn write(&self, out: &mut String) {
         if let Some(n) = &self.view_name {
-            let _ = writeln!(out, "!  adams_view_name='{n}'");
+            let _ = writeln!(out, "{VIEW_NAME}'{n}'");
         }
         let _ = writeln!(out, "{}", self.head);
         let n = self.args.len();
