@@ -202,13 +202,24 @@ impl SparseLu {
             return false;
         }
         let (l, u) = (self.lu.l_factor_unsorted(), self.lu.u_factor_unsorted());
+        // faer's index and value arrays may run past the last column's end:
+        // only the columns' entries are kept, copied once into `own`'s buffers.
+        let (ln, un) = (l.symbolic().col_ptr()[n], u.symbolic().col_ptr()[n]);
+        let (Some(li), Some(lv), Some(ui), Some(uv)) = (
+            l.symbolic().row_idx().get(..ln),
+            l.val().get(..ln),
+            u.symbolic().row_idx().get(..un),
+            u.val().get(..un),
+        ) else {
+            return false;
+        };
         let f = &mut self.own;
-        f.l_ptr.clone_from(&l.symbolic().col_ptr().to_vec());
-        f.l_idx.clone_from(&l.symbolic().row_idx().to_vec());
-        f.l_val.clone_from(&l.val().to_vec());
-        f.u_ptr.clone_from(&u.symbolic().col_ptr().to_vec());
-        f.u_idx.clone_from(&u.symbolic().row_idx().to_vec());
-        f.u_val.clone_from(&u.val().to_vec());
+        copy_into(&mut f.l_ptr, l.symbolic().col_ptr());
+        copy_into(&mut f.l_idx, li);
+        copy_into(&mut f.l_val, lv);
+        copy_into(&mut f.u_ptr, u.symbolic().col_ptr());
+        copy_into(&mut f.u_idx, ui);
+        copy_into(&mut f.u_val, uv);
         // The structure assumed by `refactor` and `substitute`.
         (0..n).all(|j| {
             f.l_ptr[j] < f.l_ptr[j + 1]
@@ -382,6 +393,12 @@ impl SparseLu {
         let (n, s) = (self.dim(), self.scale());
         s.reciprocal_condition(n, |y| self.solve(y))
     }
+}
+
+/// `dst` becomes a copy of `src`, in its own buffer.
+fn copy_into<T: Copy>(dst: &mut Vec<T>, src: &[T]) {
+    dst.clear();
+    dst.extend_from_slice(src);
 }
 
 #[cfg(test)]
