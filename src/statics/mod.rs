@@ -24,6 +24,7 @@ pub mod mobility;
 pub mod newton;
 pub mod path;
 mod pattern;
+mod pivoting;
 pub mod redundancy;
 pub mod sensitivity;
 mod sparse;

@@ -4,13 +4,12 @@
 //! the dense elimination (see [`super::tangent`] for the choice).
 //!
 //! The fill-reducing column order is the pattern's, computed once per
-//! problem. A fresh factorisation is faer's left-looking (Gilbert–Peierls)
-//! simplicial LU with partial pivoting by rows, which is safe for the zero
-//! diagonal block of the multipliers, and whose work follows the non-zeros of
-//! the factors, so that a chain of N coupled corners costs N times one
-//! corner, not N³. Its depth-first searches for each column's structure cost
-//! more than its arithmetic (two thirds of a coupled-corners solve), so the
-//! factors are copied out and the next matrix is refactorised KLU's way:
+//! problem. A fresh factorisation ([`pivoting`]) chooses the pivot rows by
+//! threshold and fill (a row swap is safe for the zero diagonal block of the
+//! multipliers), and its work follows the non-zeros of the factors, so that
+//! a chain of N coupled corners costs N times one corner, not N³. Finding
+//! each column's structure costs more than its arithmetic, so the next
+//! matrix is refactorised KLU's way:
 //! with the previous pivot sequence and the structure of L and U (the same
 //! for every matrix of the pattern with those pivots), numbers only, as long
 //! as every pivot keeps at least [`PIVOT_THRESHOLD`] of the largest entry
@@ -18,35 +17,20 @@
 
 use super::condition::{BlockSizes, Scale, largest};
 use super::pattern::Pattern;
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::perm::PermRef;
-use faer::sparse::SparseColMatRef;
-use faer::sparse::linalg::lu::simplicial::{self, SimplicialLu};
+use super::pivoting::{self, Factors};
 use std::cell::Cell;
 use std::sync::Arc;
 
 /// A reused pivot must be at least this fraction of the largest candidate in
-/// its column (threshold partial pivoting; UMFPACK's default for its
-/// symmetric strategy), which bounds the growth of each elimination step by
+/// its column, which bounds the growth of each elimination step by
 /// `1 / PIVOT_THRESHOLD`; every solution is still checked against the matrix
-/// (`satisfies`). Along table 5-1 on eight coupled corners, 5 of 50
-/// factorisations needed fresh pivots with 0.01 and 1 with 0.001; each fresh
-/// one costs about 20 refactorisations.
-const PIVOT_THRESHOLD: f64 = 0.001;
-
-/// L (unit lower) and U by columns in pivot order, rows as pivot positions:
-/// each column of L starts with its unit diagonal, each column of U ends with
-/// its pivot, and U's other rows are in an order in which the left-looking
-/// updates may run (faer's depth-first order).
-#[derive(Debug, Clone, Default)]
-struct Factors {
-    l_ptr: Vec<usize>,
-    l_idx: Vec<usize>,
-    l_val: Vec<f64>,
-    u_ptr: Vec<usize>,
-    u_idx: Vec<usize>,
-    u_val: Vec<f64>,
-}
+/// (`satisfies`), and a refused one is solved again with fresh pivots. (KLU
+/// refactorises with no threshold at all and leaves the check to its user.)
+/// The fresh pivots ([`pivoting`]) pass 0.1 of their column's largest entry
+/// when chosen; along table 5-1 on eight coupled corners, 2 of 44
+/// factorisations needed fresh ones with 0.001 and none with 0.0001, and each
+/// fresh one costs about five refactorisations.
+const PIVOT_THRESHOLD: f64 = 0.0001;
 
 /// A pivot sequence and the factors' structure to start refactorising from
 /// (kept in the [`Pattern`], so that every solver of the problem starts
@@ -60,10 +44,8 @@ pub(crate) struct Pivots {
 
 pub(crate) struct SparseLu {
     pattern: Arc<Pattern>,
-    lu: SimplicialLu<usize, f64>,
     row_perm: Vec<usize>,
     row_perm_inv: Vec<usize>,
-    mem: MemBuffer,
     /// The values factorised (in the pattern's slots).
     a: Vec<f64>,
     /// Largest absolute entry of the matrix factorised.
@@ -92,15 +74,12 @@ pub(crate) struct SparseLu {
 impl SparseLu {
     pub fn new(pattern: Arc<Pattern>) -> SparseLu {
         let n = pattern.dim();
-        let req = simplicial::factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n);
         let start = pattern.pivots.get().cloned();
         let mut lu = SparseLu {
             a: vec![0.0; pattern.nnz()],
             pattern,
-            lu: SimplicialLu::new(),
             row_perm: vec![0; n],
             row_perm_inv: vec![0; n],
-            mem: MemBuffer::new(req),
             a_max: 0.0,
             scale: Cell::new(None),
             own: Factors::default(),
@@ -183,50 +162,10 @@ impl SparseLu {
         Some(self.factor(values))
     }
 
-    /// faer's factorisation with fresh pivots of `self.a`, copied into `own`.
+    /// A factorisation of `self.a` with fresh pivots ([`pivoting`]) into `own`.
     fn factor_fresh(&mut self) -> bool {
-        let n = self.dim();
-        let a = SparseColMatRef::new(self.pattern.symbolic(), &self.a[..]);
-        let col_perm = PermRef::new_checked(&self.pattern.order, &self.pattern.order_inv, n);
-        let stack = MemStack::new(&mut self.mem);
-        if simplicial::factorize_simplicial_numeric_lu(
-            &mut self.row_perm,
-            &mut self.row_perm_inv,
-            &mut self.lu,
-            a,
-            col_perm,
-            stack,
-        )
-        .is_err()
-        {
-            return false;
-        }
-        let (l, u) = (self.lu.l_factor_unsorted(), self.lu.u_factor_unsorted());
-        // faer's index and value arrays may run past the last column's end:
-        // only the columns' entries are kept, copied once into `own`'s buffers.
-        let (ln, un) = (l.symbolic().col_ptr()[n], u.symbolic().col_ptr()[n]);
-        let (Some(li), Some(lv), Some(ui), Some(uv)) = (
-            l.symbolic().row_idx().get(..ln),
-            l.val().get(..ln),
-            u.symbolic().row_idx().get(..un),
-            u.val().get(..un),
-        ) else {
-            return false;
-        };
-        let f = &mut self.own;
-        copy_into(&mut f.l_ptr, l.symbolic().col_ptr());
-        copy_into(&mut f.l_idx, li);
-        copy_into(&mut f.l_val, lv);
-        copy_into(&mut f.u_ptr, u.symbolic().col_ptr());
-        copy_into(&mut f.u_idx, ui);
-        copy_into(&mut f.u_val, uv);
-        // The structure assumed by `refactor` and `substitute`.
-        (0..n).all(|j| {
-            f.l_ptr[j] < f.l_ptr[j + 1]
-                && f.l_idx[f.l_ptr[j]] == j
-                && f.u_ptr[j] < f.u_ptr[j + 1]
-                && f.u_idx[f.u_ptr[j + 1] - 1] == j
-        })
+        let (p, f) = (&*self.pattern, &mut self.own);
+        pivoting::factor(p, &self.a, f, &mut self.row_perm, &mut self.row_perm_inv)
     }
 
     /// Left-looking LU of `self.a` with the pivots and structure of `own`;
@@ -393,12 +332,6 @@ impl SparseLu {
         let (n, s) = (self.dim(), self.scale());
         s.reciprocal_condition(n, |y| self.solve(y))
     }
-}
-
-/// `dst` becomes a copy of `src`, in its own buffer.
-fn copy_into<T: Copy>(dst: &mut Vec<T>, src: &[T]) {
-    dst.clear();
-    dst.extend_from_slice(src);
 }
 
 #[cfg(test)]
@@ -648,6 +581,46 @@ mod tests {
                 assert!((xa - xb).norm() < 1e-9, "{} mm", (xa - xb).norm());
                 assert!((ra - rb).norm() < 1e-12, "{} rad", (ra - rb).norm());
             }
+        }
+    }
+
+    /// The factors' work grows with the number of coupled corners as the
+    /// corners do: the multiply-adds of a refactorisation of N corners (with
+    /// the fresh pivots of their design matrix, which every solve of the
+    /// problem starts from) stay within 1.4 N those of one corner (1.21 at
+    /// N = 2, 1.34 at N = 8). Partial pivoting (the largest entry of each
+    /// column, faer's, used before) needed 78 295 at N = 8, 2.4 N
+    /// (`docs/performance.md`).
+    #[test]
+    fn the_fill_of_coupled_corners_grows_with_their_number() {
+        let work = |n: usize| {
+            let (p, pat) = pattern(n);
+            let mut ws = crate::statics::assembly::Workspace::new(&p);
+            let design = crate::statics::coords::State::design(&p.model);
+            ws.eval(&p, &design, &[], true).expect("evaluates");
+            // In the pattern's slots whatever the storage (one corner is dense).
+            let a = ws.matrix();
+            let v: Vec<f64> = (0..pat.dim())
+                .flat_map(|j| (pat.col_ptr[j]..pat.col_ptr[j + 1]).map(move |k| (k, j)))
+                .map(|(k, j)| a[(pat.row_idx[k], j)])
+                .collect();
+            let mut lu = SparseLu::new(pat.clone());
+            assert!(lu.factor(&v));
+            (lu.own.updates(), lu.own.entries())
+        };
+        let one = work(1);
+        for n in [2, 8] {
+            let (updates, entries) = work(n);
+            eprintln!(
+                "{n} corners: {updates} multiply-adds ({:.2} per corner of one), {entries} entries ({:.2})",
+                updates as f64 / (n * one.0) as f64,
+                entries as f64 / (n * one.1) as f64
+            );
+            assert!(
+                updates as f64 <= 1.4 * (n * one.0) as f64,
+                "{updates} vs {}",
+                one.0
+            );
         }
     }
 }
