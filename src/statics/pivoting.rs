@@ -80,11 +80,11 @@ pub(crate) fn factor(
     // that may hold an entry (pivoted rows are skipped when read).
     let mut rows: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
     let mut cols: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for j in 0..n {
-        for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
-            let i = pattern.row_idx[k];
-            rows[i].push((j, values[k]));
-            cols[j].push(i);
+    for (j, col) in cols.iter_mut().enumerate() {
+        let slots = pattern.col_ptr[j]..pattern.col_ptr[j + 1];
+        for (&i, &v) in pattern.row_idx[slots.clone()].iter().zip(&values[slots]) {
+            rows[i].push((j, v));
+            col.push(i);
         }
     }
     let mut pivoted = vec![false; n];
@@ -206,8 +206,10 @@ pub(crate) fn factor(
     }
     f.u_ptr.clear();
     f.u_ptr.push(0);
-    for j in 0..n {
-        f.u_ptr.push(f.u_ptr[j] + count[j]);
+    let mut end = 0;
+    for c in &count {
+        end += c;
+        f.u_ptr.push(end);
     }
     let total = f.u_ptr[n];
     f.u_idx.clear();

@@ -29,7 +29,7 @@ use std::sync::Arc;
 /// The fresh pivots ([`pivoting`]) pass 0.1 of their column's largest entry
 /// when chosen; along table 5-1 on eight coupled corners, 2 of 44
 /// factorisations needed fresh ones with 0.001 and none with 0.0001, and each
-/// fresh one costs about five refactorisations.
+/// fresh one costs about six refactorisations.
 const PIVOT_THRESHOLD: f64 = 0.0001;
 
 /// A pivot sequence and the factors' structure to start refactorising from
