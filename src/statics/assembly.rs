@@ -12,7 +12,7 @@ use super::newton::Homotopy;
 use super::tangent::NewtonMatrix;
 use super::wrench::Wrench;
 use crate::geom::Vec3;
-use crate::model::{JointId, PointLoad};
+use crate::model::{JointId, PointLoad, Primitive};
 use nalgebra::{DMatrix, DVector};
 /// The scaled residual and its derivative at one state.
 pub(crate) struct System {
@@ -192,6 +192,14 @@ impl Workspace {
         // A joint's equations are consecutive and share its marker frames.
         let mut frames: Option<(JointId, MarkerKin, MarkerKin)> = None;
         let mut w = Wrench::new(None, None, Vec3::zeros(), Vec3::zeros());
+        // The λ-weighted sum of the unit reactions of consecutive equations
+        // of one joint whose wrenches share their arms (see `Arms`), whose
+        // tangent is the sum of theirs: the tangent is linear in the forces
+        // and their derivatives once the arms are fixed. One tangent a group
+        // instead of one an equation (a revolute joint's five equations
+        // scatter 4 blocks instead of 14).
+        let mut group: Option<(JointId, Arms)> = None;
+        let mut sum = Wrench::new(None, None, Vec3::zeros(), Vec3::zeros());
         for (idx, &e) in p.kept.iter().enumerate() {
             let lam = st.lambda.get(idx).copied().unwrap_or(0.0);
             let eq = &p.equations[e];
@@ -264,8 +272,21 @@ impl Workspace {
                 r[i] += lam * v * scale[i];
             }
             if tangent {
-                add_tangent(&w, lam, a, scale, &mut inside);
+                let key = (eq.joint, Arms::of(eq.primitive));
+                if group == Some(key) {
+                    sum.add_loads(&w, lam);
+                } else {
+                    if group.is_some() {
+                        add_tangent(&sum, 1.0, a, scale, &mut inside);
+                    }
+                    sum.clone_from(&w);
+                    sum.scale_loads(lam);
+                    group = Some(key);
+                }
             }
+        }
+        if group.is_some() {
+            add_tangent(&sum, 1.0, a, scale, &mut inside);
         }
         Ok(inside)
     }
@@ -317,6 +338,26 @@ impl Workspace {
     /// The Newton matrix as a nalgebra matrix (for the SVD of error paths).
     pub fn matrix(&self) -> DMatrix<f64> {
         self.a.to_dense()
+    }
+}
+
+/// Which arms a joint primitive's unit reaction acts at
+/// ([`super::constraint::evaluate_into`]): coincidence and perpendicularity
+/// at the two markers' points, each turning with its part; in-plane at
+/// `p_I` on both parts. Equations of one joint with the same arms have
+/// wrenches that differ only in their forces, torques and derivatives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Arms {
+    Markers,
+    PointOfI,
+}
+
+impl Arms {
+    fn of(p: Primitive) -> Arms {
+        match p {
+            Primitive::Coincident(_) | Primitive::Perpendicular(..) => Arms::Markers,
+            Primitive::InPlane(_) => Arms::PointOfI,
+        }
     }
 }
 

@@ -148,6 +148,26 @@ impl Wrench {
         self
     }
 
+    /// Multiplies the forces, torques and their derivatives by `s` in place
+    /// (as [`Self::scaled`]).
+    pub fn scale_loads(&mut self, s: f64) {
+        self.g *= s;
+        self.m *= s;
+        self.dg *= s;
+        self.dm *= s;
+    }
+
+    /// Adds `s` times `w`'s forces, torques and their derivatives; the arms
+    /// stay, so the sum's generalised force and tangent are the sums of the
+    /// two wrenches' only when `w` has the same parts and arms.
+    pub fn add_loads(&mut self, w: &Wrench, s: f64) {
+        debug_assert!(self.i == w.i && self.j == w.j && self.r_i == w.r_i && self.rho == w.rho);
+        self.g += w.g * s;
+        self.m += w.m * s;
+        self.dg += w.dg * s;
+        self.dm += w.dm * s;
+    }
+
     /// Global coordinate offset of each 6-block of the local order.
     pub(crate) fn offsets(&self) -> [Option<usize>; 2] {
         [self.i.map(|b| 6 * b), self.j.map(|b| 6 * b)]
