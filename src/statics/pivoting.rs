@@ -98,15 +98,16 @@ pub(crate) fn factor(
     // absent), and the last row whose update met it there.
     let mut at = vec![usize::MAX; n];
     let mut met = vec![usize::MAX; n];
-    let mut cand: Vec<(usize, f64)> = Vec::new();
+    // The column's candidate rows: row, entry, and where the row holds it.
+    let mut cand: Vec<(usize, f64, usize)> = Vec::new();
     for (k, &c) in pattern.order.iter().enumerate() {
         cand.clear();
         for &i in &cols[c] {
             if pivoted[i] {
                 continue;
             }
-            if let Some(&(_, v)) = rows[i].iter().find(|e| e.0 == c) {
-                cand.push((i, v));
+            if let Some(p) = rows[i].iter().position(|e| e.0 == c) {
+                cand.push((i, rows[i][p].1, p));
             }
         }
         let big = cand.iter().fold(0.0f64, |m, e| m.max(e.1.abs()));
@@ -118,7 +119,7 @@ pub(crate) fn factor(
             Some(e) => e.0,
             None => {
                 let mut best: Option<(usize, f64, usize)> = None;
-                for &(i, v) in cand.iter().filter(|e| qualifies(e.1)) {
+                for &(i, v, _) in cand.iter().filter(|e| qualifies(e.1)) {
                     let len = rows[i].len();
                     let better = match best {
                         None => true,
@@ -137,32 +138,26 @@ pub(crate) fn factor(
         pivoted[r] = true;
         row_perm[k] = r;
         let mut urow = std::mem::take(&mut rows[r]);
-        let Some(pos) = urow.iter().position(|e| e.0 == c) else {
+        let Some(&(_, piv, pos)) = cand.iter().find(|e| e.0 == r) else {
             return false;
         };
-        let piv = urow.swap_remove(pos).1;
+        urow.swap_remove(pos);
         let mut lcol = Vec::with_capacity(cand.len().saturating_sub(1));
         for (p, e) in urow.iter().enumerate() {
             at[e.0] = p;
         }
-        for &(i, a) in cand.iter().filter(|e| e.0 != r) {
+        for &(i, a, pos) in cand.iter().filter(|e| e.0 != r) {
             let l = a / piv;
             lcol.push((i, l));
             let row = &mut rows[i];
-            // One pass over the row: the column leaves the active submatrix
-            // (its entry becomes L's), the pivot row's columns are updated.
-            let mut p = 0;
-            while p < row.len() {
-                let (cc, _) = row[p];
-                if cc == c {
-                    row.swap_remove(p);
-                    continue;
+            // The column leaves the active submatrix (its entry becomes L's);
+            // one pass over the rest updates the pivot row's columns.
+            row.swap_remove(pos);
+            for e in row.iter_mut() {
+                if let Some(&(_, v)) = urow.get(at[e.0]) {
+                    e.1 -= l * v;
+                    met[e.0] = i;
                 }
-                if let Some(&(_, v)) = urow.get(at[cc]) {
-                    row[p].1 -= l * v;
-                    met[cc] = i;
-                }
-                p += 1;
             }
             // The pivot row's other columns fill this row.
             for &(cc, v) in &urow {

@@ -139,17 +139,8 @@ impl Wrench {
         k
     }
 
-    /// Multiplies the wrench and its derivatives by `s` (a multiplier λ); the arms stay.
-    pub fn scaled(mut self, s: f64) -> Wrench {
-        self.g *= s;
-        self.m *= s;
-        self.dg *= s;
-        self.dm *= s;
-        self
-    }
-
-    /// Multiplies the forces, torques and their derivatives by `s` in place
-    /// (as [`Self::scaled`]).
+    /// Multiplies the forces, torques and their derivatives by `s` (a
+    /// multiplier λ); the arms stay.
     pub fn scale_loads(&mut self, s: f64) {
         self.g *= s;
         self.m *= s;
