@@ -319,11 +319,12 @@ fn random_500_json(b: Bencher) {
     let eqs = solve_path(&p, set).expect("solves");
     let ls = &m.load_sets[set.index()];
     b.bench_local(|| {
+        let reporter = axle::output::report::Reporter::new(&m);
         let reports: Vec<_> = eqs
             .iter()
             .zip(&ls.cases)
             .enumerate()
-            .map(|(k, (eq, c))| axle::output::report::case_report(&m, &c.name, k + 1, eq))
+            .map(|(k, (eq, c))| reporter.case(&c.name, k + 1, eq))
             .collect();
         axle::output::solve_json::solve(&m.name, &ls.name, &reports, None, None, None)
     });

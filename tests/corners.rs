@@ -249,7 +249,7 @@ fn stored_energy(m: &Model, e: &Equilibrium) -> (f64, f64) {
             axle::model::SpringLaw::Linear { k, free_length, .. } => (k.value, free_length.value),
             axle::model::SpringLaw::Table(_) => panic!("linear springs"),
         };
-        let len = r.springs[&s.name].length;
+        let len = r.springs[s.name.as_str()].length;
         springs += 0.5 * k * (len - l0).powi(2);
     }
     let mut bushings = 0.0;

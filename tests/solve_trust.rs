@@ -188,7 +188,7 @@ fn worst_imbalance(
         }
     }
     for j in &model.joints {
-        let Some(r) = report.joints.get(&j.name) else {
+        let Some(r) = report.joints.get(j.name.as_str()) else {
             continue;
         };
         let (force, torque, at) = (

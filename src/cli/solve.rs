@@ -5,7 +5,7 @@ use super::{Exit, OutFormat};
 use crate::diagnostic::Diagnostic;
 use crate::kc::kc_rows;
 use crate::model::LoadSetId;
-use crate::output::report::{CaseReport, case_report};
+use crate::output::report::{CaseReport, Reporter};
 use crate::output::warning;
 use crate::output::{kc_table, parts_csv, solve_json, solve_table};
 use crate::statics::Problem;
@@ -70,11 +70,12 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
     let ls = &model.load_sets[set.index()];
     let solved = super::input::solve_reporting(&loaded, &problem, set);
     let (eqs, failed) = (&solved.eqs, solved.failed.as_ref());
+    let reporter = Reporter::new(model);
     let reports: Vec<CaseReport> = eqs
         .iter()
         .zip(&ls.cases)
         .enumerate()
-        .map(|(k, (eq, c))| case_report(model, &c.name, k + 1, eq))
+        .map(|(k, (eq, c))| reporter.case(&c.name, k + 1, eq))
         .collect();
     let names: Vec<String> = ls.cases.iter().map(|c| c.name.clone()).collect();
     // The cases after a failed one, never tried (no stale pose is printed).

@@ -3,13 +3,18 @@
 
 use crate::geom::Vec3;
 use crate::kc::{WheelQuantities, wheel_quantities};
-use crate::model::{BushingId, ElementId, FrictionId, FrictionMotion, Model, SpringId};
+use crate::model::{BushingId, ElementId, FrictionId, FrictionMotion, Model, PartId, SpringId};
 use crate::statics::coords::Layout;
 use crate::statics::forces::{bushing, spring};
 use crate::statics::friction;
 use crate::statics::{Equilibrium, State, StaticsError};
 use serde::Serialize;
 use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// A model element's name in a report: shared by every case's report (a
+/// path of 500 cases names each element 500 times), not copied.
+pub type Name = Arc<str>;
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PartReport {
@@ -27,7 +32,7 @@ pub struct PartReport {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LoadReport {
     /// `part.marker`.
-    pub marker: String,
+    pub marker: Name,
     pub force: [f64; 3],
     pub torque: [f64; 3],
 }
@@ -78,146 +83,203 @@ pub struct CaseReport {
     pub step: usize,
     pub converged: bool,
     pub iterations: usize,
-    pub parts: BTreeMap<String, PartReport>,
-    pub wheels: BTreeMap<String, WheelQuantities>,
-    pub bushings: BTreeMap<String, BushingReport>,
-    pub springs: BTreeMap<String, SpringReport>,
+    pub parts: BTreeMap<Name, PartReport>,
+    pub wheels: BTreeMap<Name, WheelQuantities>,
+    pub bushings: BTreeMap<Name, BushingReport>,
+    pub springs: BTreeMap<Name, SpringReport>,
     /// Joint reactions on I (global).
-    pub joints: BTreeMap<String, JointReport>,
+    pub joints: BTreeMap<Name, JointReport>,
     /// The loads the case applies, in the order of their markers.
     pub loads: Vec<LoadReport>,
     /// Absent when the model has no friction (keeps older reports unchanged).
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
-    pub frictions: BTreeMap<String, FrictionReport>,
+    pub frictions: BTreeMap<Name, FrictionReport>,
     pub substeps: usize,
 }
 
 /// Every friction element at a converged (committed) state.
-pub fn friction_reports(model: &Model, st: &State) -> BTreeMap<String, FrictionReport> {
-    let layout = Layout::new(model);
-    model
-        .frictions
-        .iter()
-        .enumerate()
-        .map(|(k, f)| {
-            let id = FrictionId(k as u32);
-            let e = friction::evaluate(model, &layout, st, id);
-            let sp = st.slip_offset(model, id);
-            let unit = match f.motion {
-                FrictionMotion::Slide => 1.0,
-                FrictionMotion::Rotation => 1.0f64.to_degrees(),
-            };
-            (
-                f.name.clone(),
-                FrictionReport {
-                    slide: e.coordinate * unit,
-                    force: e.force,
-                    slip_offset: sp * unit,
-                    state: friction::committed_state(f, e.force).word(),
-                },
-            )
-        })
-        .collect()
+pub fn friction_reports(model: &Model, st: &State) -> BTreeMap<Name, FrictionReport> {
+    Reporter::new(model).frictions(st)
 }
 
 /// The report of one solved case (`step` counts from 1).
 pub fn case_report(model: &Model, name: &str, step: usize, eq: &Equilibrium) -> CaseReport {
-    let st = &eq.state;
-    let layout = Layout::new(model);
-    let mut parts = BTreeMap::new();
-    for p in model.moving_parts() {
-        let (x, r) = st.part_pose(p);
-        let pts: Vec<Vec3> = model
-            .markers
-            .iter()
-            .filter(|m| m.part == p)
-            .map(|m| m.origin())
+    Reporter::new(model).case(name, step, eq)
+}
+
+/// What the reports of a model's cases share, found once: the names, the
+/// coordinate layout, each moving part's marker centroid (the point whose
+/// displacement is reported). A path's cases are reported by one.
+pub struct Reporter<'m> {
+    model: &'m Model,
+    layout: Layout,
+    /// Moving parts: name, id and the centroid of their markers (design).
+    parts: Vec<(Name, PartId, Vec3)>,
+    joints: Vec<Name>,
+    /// `part.marker` of every marker.
+    markers: Vec<Name>,
+    wheels: Vec<Name>,
+    bushings: Vec<Name>,
+    springs: Vec<Name>,
+    frictions: Vec<Name>,
+}
+
+fn names<'a, T: 'a>(items: &'a [T], name: impl Fn(&T) -> &String) -> Vec<Name> {
+    items.iter().map(|x| Name::from(name(x).as_str())).collect()
+}
+
+impl<'m> Reporter<'m> {
+    pub fn new(model: &'m Model) -> Reporter<'m> {
+        let mut sums = vec![(Vec3::zeros(), 0usize); model.parts.len()];
+        for m in &model.markers {
+            let s = &mut sums[m.part.index()];
+            (s.0, s.1) = (s.0 + m.origin(), s.1 + 1);
+        }
+        let parts = model
+            .moving_parts()
+            .map(|p| {
+                let (sum, count) = sums[p.index()];
+                let c = if count == 0 { sum } else { sum / count as f64 };
+                (Name::from(model.part(p).name.as_str()), p, c)
+            })
             .collect();
-        let c = if pts.is_empty() {
-            Vec3::zeros()
-        } else {
-            pts.iter().sum::<Vec3>() / pts.len() as f64
-        };
-        parts.insert(
-            model.part(p).name.clone(),
-            PartReport {
-                position: x.into(),
-                rotation: [0, 1, 2].map(|i| [r[(i, 0)], r[(i, 1)], r[(i, 2)]]),
-                displacement: (x + r * c - c).into(),
-            },
-        );
-    }
-    let joints = eq
-        .reactions
-        .iter()
-        .map(|re| {
-            let j = &model.joints[re.joint.index()];
-            let mk = model.marker(j.i);
-            let (x, r) = st.part_pose(mk.part);
-            (
-                j.name.clone(),
-                JointReport {
-                    force: re.force.into(),
-                    torque: re.torque.into(),
-                    point: (x + r * mk.origin()).into(),
-                },
-            )
-        })
-        .collect();
-    let loads = st
-        .loads()
-        .iter()
-        .map(|l| LoadReport {
-            marker: model.marker_path(l.marker),
-            force: l.force.into(),
-            torque: l.torque.into(),
-        })
-        .collect();
-    let wheels = model
-        .wheels
-        .iter()
-        .map(|w| (w.name.clone(), wheel_quantities(model, st, w)))
-        .collect();
-    let mut bushings = BTreeMap::new();
-    for b in &model.bushings {
-        let e = bushing(model, &layout, st, b);
-        let a = e.angles.map(f64::to_degrees);
-        bushings.insert(
-            b.name.clone(),
-            BushingReport {
-                deformation: [e.t.x, e.t.y, e.t.z, a.x, a.y, a.z],
-                force: [
-                    e.force.x, e.force.y, e.force.z, e.torque.x, e.torque.y, e.torque.z,
-                ],
-            },
-        );
-    }
-    let mut springs = BTreeMap::new();
-    for (k, s) in model.springs.iter().enumerate() {
-        // A converged state never has a zero-length spring (its force is undefined there).
-        if let Ok((l, push, _)) = spring(model, &layout, st, SpringId(k as u32), s) {
-            springs.insert(
-                s.name.clone(),
-                SpringReport {
-                    length: l,
-                    force: -push,
-                },
-            );
+        let markers = (0..model.markers.len())
+            .map(|k| Name::from(model.marker_path(crate::model::MarkerId(k as u32))))
+            .collect();
+        Reporter {
+            model,
+            layout: Layout::new(model),
+            parts,
+            joints: names(&model.joints, |j| &j.name),
+            markers,
+            wheels: names(&model.wheels, |w| &w.name),
+            bushings: names(&model.bushings, |b| &b.name),
+            springs: names(&model.springs, |s| &s.name),
+            frictions: names(&model.frictions, |f| &f.name),
         }
     }
-    CaseReport {
-        name: name.to_string(),
-        step,
-        converged: true,
-        iterations: eq.iterations,
-        parts,
-        wheels,
-        bushings,
-        springs,
-        joints,
-        loads,
-        frictions: friction_reports(model, st),
-        substeps: eq.substeps,
+
+    /// Every friction element at a converged (committed) state.
+    pub fn frictions(&self, st: &State) -> BTreeMap<Name, FrictionReport> {
+        let model = self.model;
+        model
+            .frictions
+            .iter()
+            .enumerate()
+            .map(|(k, f)| {
+                let id = FrictionId(k as u32);
+                let e = friction::evaluate(model, &self.layout, st, id);
+                let sp = st.slip_offset(model, id);
+                let unit = match f.motion {
+                    FrictionMotion::Slide => 1.0,
+                    FrictionMotion::Rotation => 1.0f64.to_degrees(),
+                };
+                (
+                    self.frictions[k].clone(),
+                    FrictionReport {
+                        slide: e.coordinate * unit,
+                        force: e.force,
+                        slip_offset: sp * unit,
+                        state: friction::committed_state(f, e.force).word(),
+                    },
+                )
+            })
+            .collect()
+    }
+
+    /// The report of one solved case (`step` counts from 1).
+    pub fn case(&self, name: &str, step: usize, eq: &Equilibrium) -> CaseReport {
+        let (model, st) = (self.model, &eq.state);
+        let parts = self
+            .parts
+            .iter()
+            .map(|(name, p, c)| {
+                let (x, r) = st.part_pose(*p);
+                let report = PartReport {
+                    position: x.into(),
+                    rotation: [0, 1, 2].map(|i| [r[(i, 0)], r[(i, 1)], r[(i, 2)]]),
+                    displacement: (x + r * c - c).into(),
+                };
+                (name.clone(), report)
+            })
+            .collect();
+        let joints = eq
+            .reactions
+            .iter()
+            .map(|re| {
+                let j = &model.joints[re.joint.index()];
+                let mk = model.marker(j.i);
+                let (x, r) = st.part_pose(mk.part);
+                (
+                    self.joints[re.joint.index()].clone(),
+                    JointReport {
+                        force: re.force.into(),
+                        torque: re.torque.into(),
+                        point: (x + r * mk.origin()).into(),
+                    },
+                )
+            })
+            .collect();
+        let loads = st
+            .loads()
+            .iter()
+            .map(|l| LoadReport {
+                marker: self.markers[l.marker.index()].clone(),
+                force: l.force.into(),
+                torque: l.torque.into(),
+            })
+            .collect();
+        let wheels = model
+            .wheels
+            .iter()
+            .zip(&self.wheels)
+            .map(|(w, name)| (name.clone(), wheel_quantities(model, st, w)))
+            .collect();
+        let bushings = model
+            .bushings
+            .iter()
+            .zip(&self.bushings)
+            .map(|(b, name)| {
+                let e = bushing(model, &self.layout, st, b);
+                let a = e.angles.map(f64::to_degrees);
+                let report = BushingReport {
+                    deformation: [e.t.x, e.t.y, e.t.z, a.x, a.y, a.z],
+                    force: [
+                        e.force.x, e.force.y, e.force.z, e.torque.x, e.torque.y, e.torque.z,
+                    ],
+                };
+                (name.clone(), report)
+            })
+            .collect();
+        let springs = model
+            .springs
+            .iter()
+            .enumerate()
+            .filter_map(|(k, s)| {
+                // A converged state never has a zero-length spring (its force
+                // is undefined there).
+                let (l, push, _) = spring(model, &self.layout, st, SpringId(k as u32), s).ok()?;
+                let report = SpringReport {
+                    length: l,
+                    force: -push,
+                };
+                Some((self.springs[k].clone(), report))
+            })
+            .collect();
+        CaseReport {
+            name: name.to_string(),
+            step,
+            converged: true,
+            iterations: eq.iterations,
+            parts,
+            wheels,
+            bushings,
+            springs,
+            joints,
+            loads,
+            frictions: self.frictions(st),
+            substeps: eq.substeps,
+        }
     }
 }
 
