@@ -18,4 +18,4 @@ pub mod without;
 pub use axle::{AxleMetrics, Motion, axle_metrics};
 pub use compliance::{ComplianceMetrics, Input, Phase, compliance_metrics};
 pub use steer::{Rack, SteeringMetrics, driven_rack, rack_travel, steering_metrics};
-pub use wheel::{KcRow, WheelQuantities, kc_rows, wheel_quantities};
+pub use wheel::{KcRow, WheelQuantities, kc_rows, wheel_quantities, wheel_quantities_from};

@@ -42,8 +42,19 @@ fn centre_axis_contact(model: &Model, state: &State, w: &Wheel) -> (Vec3, Vec3, 
 
 /// The wheel's quantities at `state`, travel and half-track change against design.
 pub fn wheel_quantities(model: &Model, state: &State, w: &Wheel) -> WheelQuantities {
+    wheel_quantities_from(model, &State::design(model), state, w)
+}
+
+/// [`wheel_quantities`] with the design state given (built once for many
+/// states: it is as large as any state).
+pub fn wheel_quantities_from(
+    model: &Model,
+    design: &State,
+    state: &State,
+    w: &Wheel,
+) -> WheelQuantities {
     let (c, s, cp) = centre_axis_contact(model, state, w);
-    let (c0, _, cp0) = centre_axis_contact(model, &State::design(model), w);
+    let (c0, _, cp0) = centre_axis_contact(model, design, w);
     let right = c.y < 0.0;
     let h = if right {
         Vec3::z().cross(&s)
@@ -100,6 +111,7 @@ pub fn kc_rows(model: &Model, set: LoadSetId, states: &[&State]) -> Vec<KcRow> {
         return Vec::new();
     };
     let pairs = super::axle::wheel_pairs(model);
+    let design = State::design(model);
     let mut rows = Vec::new();
     for (k, (case, st)) in ls.cases.iter().zip(states).enumerate() {
         let loads = model.point_loads(set, k);
@@ -121,7 +133,7 @@ pub fn kc_rows(model: &Model, set: LoadSetId, states: &[&State]) -> Vec<KcRow> {
                 force: f.into(),
                 torque: t.into(),
                 centre_force: fc.into(),
-                quantities: wheel_quantities(model, st, w),
+                quantities: wheel_quantities_from(model, &design, st, w),
                 roll_deg: None,
                 rack_mm: None,
             });

@@ -6,7 +6,7 @@
 //! order, as serde_json's map (a `BTreeMap`) orders them; the tests compare
 //! with the tree's output.
 
-use super::number::push_json;
+use super::number::{push_json, push_prefix};
 use serde_json::Value;
 use std::io::Write;
 
@@ -44,17 +44,19 @@ impl Json {
             .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
     }
 
-    /// `sep` (`b",\n"` or `b"\n"`) and the indent of `depth` levels, in one
-    /// copy for the depths documents have (a copy per piece cost more than
-    /// the bytes).
-    fn line(&mut self, sep: &[u8], depth: usize) {
-        /// `,` then a newline, then the spaces of the deepest indent copied whole.
-        const LINE: &[u8; 2 + 2 * 16] = b",\n                                ";
-        let skip = 2 - sep.len();
-        match LINE.get(skip..2 + 2 * depth) {
-            Some(text) => self.out.extend_from_slice(text),
-            None => {
-                self.out.extend_from_slice(sep);
+    /// A newline, after a `,` if `comma`, and the indent of `depth` levels,
+    /// in one copy for the depths documents have (a copy per piece cost more
+    /// than the bytes).
+    fn line(&mut self, comma: bool, depth: usize) {
+        /// A newline (after `,` or not), then the spaces of the deepest
+        /// indent, copied whole and cut ([`push_prefix`]).
+        const COMMA: &[u8; 2 + 2 * 16] = b",\n                                ";
+        const NEWLINE: &[u8; 1 + 2 * 16] = b"\n                                ";
+        match (depth <= 16, comma) {
+            (true, true) => push_prefix(&mut self.out, COMMA, 2 + 2 * depth),
+            (true, false) => push_prefix(&mut self.out, NEWLINE, 1 + 2 * depth),
+            (false, _) => {
+                self.out.extend_from_slice(&COMMA[usize::from(!comma)..2]);
                 self.out.extend(std::iter::repeat_n(b' ', 2 * depth));
             }
         }
@@ -70,7 +72,7 @@ impl Json {
             let first = !*has;
             *has = true;
             let depth = self.open.len();
-            self.line(if first { b"\n" } else { b",\n" }, depth);
+            self.line(!first, depth);
         }
     }
 
@@ -90,7 +92,7 @@ impl Json {
 
     fn end(&mut self, c: u8) {
         if self.open.pop() == Some(true) {
-            self.line(b"\n", self.open.len());
+            self.line(false, self.open.len());
         }
         self.out.push(c);
     }

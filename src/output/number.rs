@@ -66,13 +66,14 @@ impl Rounded {
             e += 1;
             q = Self::scale(a, 9 - e)?;
         }
-        // q < 10^10 + 1: truncation is exact and quick (no libm floor)
-        let whole = q as u64;
+        // 0 < q < 10^10 + 1: truncation is exact and quick (no libm floor),
+        // and one instruction through i64 (through u64 it takes a dozen).
+        let whole = q as i64;
         let f = q - whole as f64;
         if (f - 0.5).abs() < 1e-5 {
             return None;
         }
-        let mut m = whole + u64::from(f > 0.5);
+        let mut m = whole as u64 + u64::from(f > 0.5);
         if m == 10_000_000_000 {
             // 9999999999.5 carried into an eleventh digit
             (m, e) = (1_000_000_000, e + 1);
@@ -146,12 +147,18 @@ pub fn push_json(out: &mut Vec<u8>, v: f64) {
     {
         digits[2 * k..2 * k + 2].copy_from_slice(&PAIRS[2 * pair..2 * pair + 2]);
     }
-    let len = SIGNIFICANT
-        - digits[..SIGNIFICANT]
-            .iter()
-            .rev()
-            .take_while(|&&d| d == b'0')
-            .count();
+    // Trailing zeros, from the digits read as integers: the last '0' bytes
+    // are the high bytes of the little-endian words that XOR to zero (the
+    // first digit is never '0': m >= 10^9).
+    let (head, tail) = digits.split_at(8);
+    let head = u64::from_le_bytes(head.try_into().unwrap_or([0; 8])) ^ 0x3030_3030_3030_3030;
+    let tail = u16::from_le_bytes([tail[0], tail[1]]) ^ 0x3030;
+    let zeros = if tail != 0 {
+        tail.leading_zeros() / 8
+    } else {
+        2 + head.leading_zeros() / 8
+    };
+    let len = SIGNIFICANT - zeros as usize;
     // Laid out in a buffer by copies of fixed length (ten digits, sixteen
     // zeros; what follows overwrites the excess), so that a number costs
     // one variable-length copy, into `out`.
@@ -186,7 +193,17 @@ pub fn push_json(out: &mut Vec<u8>, v: f64) {
         buf[n..n + SIGNIFICANT].copy_from_slice(&digits[..SIGNIFICANT]);
         n += len;
     }
-    out.extend_from_slice(&buf[..n]);
+    push_prefix(out, &buf, n);
+}
+
+/// Appends `src[..n]` to `out` by copying all of `src` (a fixed length) and
+/// truncating: a copy of fixed length compiles to a few moves, one of
+/// variable length to a call of `memcpy`, which cost a fifth of a number.
+#[inline]
+pub(crate) fn push_prefix<const N: usize>(out: &mut Vec<u8>, src: &[u8; N], n: usize) {
+    let len = out.len();
+    out.extend_from_slice(src);
+    out.truncate(len + n.min(N));
 }
 
 /// `v` for a CSV field: [`round`], shortest form.

@@ -2,7 +2,7 @@
 //! about bushings driven outside the range of their projected angles.
 
 use crate::geom::Vec3;
-use crate::kc::{WheelQuantities, wheel_quantities};
+use crate::kc::{WheelQuantities, wheel_quantities_from};
 use crate::model::{BushingId, ElementId, FrictionId, FrictionMotion, Model, PartId, SpringId};
 use crate::statics::coords::Layout;
 use crate::statics::forces::{bushing, spring};
@@ -113,6 +113,8 @@ pub fn case_report(model: &Model, name: &str, step: usize, eq: &Equilibrium) -> 
 pub struct Reporter<'m> {
     model: &'m Model,
     layout: Layout,
+    /// The design state (the wheels' travel is measured from it).
+    design: State,
     /// Moving parts: name, id and the centroid of their markers (design).
     parts: Vec<(Name, PartId, Vec3)>,
     joints: Vec<Name>,
@@ -149,6 +151,7 @@ impl<'m> Reporter<'m> {
         Reporter {
             model,
             layout: Layout::new(model),
+            design: State::design(model),
             parts,
             joints: names(&model.joints, |j| &j.name),
             markers,
@@ -233,7 +236,10 @@ impl<'m> Reporter<'m> {
             .wheels
             .iter()
             .zip(&self.wheels)
-            .map(|(w, name)| (name.clone(), wheel_quantities(model, st, w)))
+            .map(|(w, name)| {
+                let q = wheel_quantities_from(model, &self.design, st, w);
+                (name.clone(), q)
+            })
             .collect();
         let bushings = model
             .bushings
