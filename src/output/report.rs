@@ -9,12 +9,77 @@ use crate::statics::forces::{bushing, spring};
 use crate::statics::friction;
 use crate::statics::{Equilibrium, State, StaticsError};
 use serde::Serialize;
-use std::collections::BTreeMap;
 use std::sync::Arc;
 
 /// A model element's name in a report: shared by every case's report (a
 /// path of 500 cases names each element 500 times), not copied.
 pub type Name = Arc<str>;
+
+/// A report's elements by name, in name order (the JSON documents' key
+/// order): a sorted list rather than a map, because every case of a path
+/// names the same elements in the same order, which the [`Reporter`] sorts
+/// once.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ByName<T>(Vec<(Name, T)>);
+
+impl<T> ByName<T> {
+    /// From entries with distinct names, in any order.
+    pub fn new(mut entries: Vec<(Name, T)>) -> ByName<T> {
+        entries.sort_by(|a, b| a.0.cmp(&b.0));
+        ByName(entries)
+    }
+
+    pub fn get(&self, name: &str) -> Option<&T> {
+        let k = self.0.binary_search_by(|e| (*e.0).cmp(name)).ok()?;
+        Some(&self.0[k].1)
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = (&Name, &T)> {
+        self.0.iter().map(|(k, v)| (k, v))
+    }
+
+    pub fn values(&self) -> impl Iterator<Item = &T> {
+        self.0.iter().map(|e| &e.1)
+    }
+
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+}
+
+impl<T> std::ops::Index<&str> for ByName<T> {
+    type Output = T;
+    fn index(&self, name: &str) -> &T {
+        match self.get(name) {
+            Some(v) => v,
+            None => panic!("no element `{name}` in the report"),
+        }
+    }
+}
+
+impl<'a, T> IntoIterator for &'a ByName<T> {
+    type Item = (&'a Name, &'a T);
+    type IntoIter = std::iter::Map<std::slice::Iter<'a, (Name, T)>, fn(&(Name, T)) -> (&Name, &T)>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.0.iter().map(|(k, v)| (k, v))
+    }
+}
+
+impl<T> FromIterator<(Name, T)> for ByName<T> {
+    fn from_iter<I: IntoIterator<Item = (Name, T)>>(entries: I) -> ByName<T> {
+        ByName::new(entries.into_iter().collect())
+    }
+}
+
+impl<T: Serialize> Serialize for ByName<T> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_map(self.iter())
+    }
+}
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PartReport {
@@ -83,22 +148,22 @@ pub struct CaseReport {
     pub step: usize,
     pub converged: bool,
     pub iterations: usize,
-    pub parts: BTreeMap<Name, PartReport>,
-    pub wheels: BTreeMap<Name, WheelQuantities>,
-    pub bushings: BTreeMap<Name, BushingReport>,
-    pub springs: BTreeMap<Name, SpringReport>,
+    pub parts: ByName<PartReport>,
+    pub wheels: ByName<WheelQuantities>,
+    pub bushings: ByName<BushingReport>,
+    pub springs: ByName<SpringReport>,
     /// Joint reactions on I (global).
-    pub joints: BTreeMap<Name, JointReport>,
+    pub joints: ByName<JointReport>,
     /// The loads the case applies, in the order of their markers.
     pub loads: Vec<LoadReport>,
     /// Absent when the model has no friction (keeps older reports unchanged).
-    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
-    pub frictions: BTreeMap<Name, FrictionReport>,
+    #[serde(skip_serializing_if = "ByName::is_empty")]
+    pub frictions: ByName<FrictionReport>,
     pub substeps: usize,
 }
 
 /// Every friction element at a converged (committed) state.
-pub fn friction_reports(model: &Model, st: &State) -> BTreeMap<Name, FrictionReport> {
+pub fn friction_reports(model: &Model, st: &State) -> ByName<FrictionReport> {
     Reporter::new(model).frictions(st)
 }
 
@@ -163,7 +228,7 @@ impl<'m> Reporter<'m> {
     }
 
     /// Every friction element at a converged (committed) state.
-    pub fn frictions(&self, st: &State) -> BTreeMap<Name, FrictionReport> {
+    pub fn frictions(&self, st: &State) -> ByName<FrictionReport> {
         let model = self.model;
         model
             .frictions
