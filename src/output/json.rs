@@ -19,6 +19,28 @@ pub struct Json {
     open: Vec<bool>,
     /// A key was written; its value follows on the same line.
     after_key: bool,
+    /// Writing, recording an item's layout, or replaying one.
+    mode: Mode,
+}
+
+/// An item's bytes and where its values (numbers, integers, booleans and
+/// strings) lie in them: the layout of every item with the same keys, the
+/// same structure and the same names ([`Json::record`], [`Json::replay`]).
+#[derive(Debug, Default)]
+pub struct Layout {
+    bytes: Vec<u8>,
+    /// The bytes before each value, and after the last.
+    gaps: Vec<std::ops::Range<usize>>,
+    tail: usize,
+}
+
+enum Mode {
+    Write,
+    /// From where in `out` the item started, the places of its values.
+    Record(usize, Vec<(usize, usize)>),
+    /// The layout and the next value's index (past the last: the calls do not
+    /// match it).
+    Replay(Layout, usize),
 }
 
 /// [`Json::line`] below the depths of the documents (kept out of its way).
@@ -61,6 +83,7 @@ impl Json {
             out: Vec::new(),
             open: Vec::with_capacity(8),
             after_key: false,
+            mode: Mode::Write,
         }
     }
 
@@ -102,6 +125,9 @@ impl Json {
     }
 
     pub fn key(&mut self, k: &str) -> &mut Json {
+        if self.replaying() {
+            return self;
+        }
         self.item();
         self.string_contents(k);
         self.out.extend_from_slice(b": ");
@@ -110,12 +136,18 @@ impl Json {
     }
 
     fn begin(&mut self, c: u8) {
+        if self.replaying() {
+            return;
+        }
         self.item();
         self.out.push(c);
         self.open.push(false);
     }
 
     fn end(&mut self, c: u8) {
+        if self.replaying() {
+            return;
+        }
         if self.open.pop() == Some(true) {
             self.line(false, self.open.len());
         }
@@ -137,24 +169,113 @@ impl Json {
 
     /// A float, rounded as every number of `solve` and `kc` output.
     pub fn num(&mut self, v: f64) {
-        self.item();
+        self.value_start();
         push_json(&mut self.out, v);
+        self.value_end();
     }
 
     pub fn int(&mut self, v: u64) {
-        self.item();
+        self.value_start();
         let _ = write!(self.out, "{v}");
+        self.value_end();
     }
 
     pub fn bool(&mut self, v: bool) {
-        self.item();
+        self.value_start();
         self.out
             .extend_from_slice(if v { b"true" } else { b"false" });
+        self.value_end();
     }
 
     pub fn str(&mut self, s: &str) {
-        self.item();
+        self.value_start();
         self.string_contents(s);
+        self.value_end();
+    }
+
+    fn replaying(&self) -> bool {
+        matches!(self.mode, Mode::Replay(..))
+    }
+
+    /// Before a value: its separator and indent, or in a replay the
+    /// layout's bytes since the last value.
+    #[inline]
+    fn value_start(&mut self) {
+        if let Mode::Replay(layout, next) = &self.mode {
+            if let Some(gap) = layout.gaps.get(*next) {
+                self.out.extend_from_slice(&layout.bytes[gap.clone()]);
+            }
+            return;
+        }
+        self.item();
+        let len = self.out.len();
+        if let Mode::Record(start, values) = &mut self.mode {
+            values.push((len - *start, len - *start));
+        }
+    }
+
+    /// After a value: where it ended, or in a replay the next gap.
+    #[inline]
+    fn value_end(&mut self) {
+        let len = self.out.len();
+        match &mut self.mode {
+            Mode::Write => {}
+            Mode::Record(start, values) => {
+                if let Some(v) = values.last_mut() {
+                    v.1 = len - *start;
+                }
+            }
+            Mode::Replay(_, next) => *next += 1,
+        }
+    }
+
+    /// Writes an array item with `write` and returns its layout, for
+    /// [`Self::replay`] to write items of the same shape by their values.
+    pub fn record(&mut self, write: impl FnOnce(&mut Json)) -> Layout {
+        self.item();
+        self.after_key = true;
+        let start = self.out.len();
+        self.mode = Mode::Record(start, Vec::new());
+        write(self);
+        let values = match std::mem::replace(&mut self.mode, Mode::Write) {
+            Mode::Record(_, values) => values,
+            _ => Vec::new(),
+        };
+        let mut from = 0;
+        let gaps = values
+            .iter()
+            .map(|&(a, b)| std::mem::replace(&mut from, b)..a)
+            .collect();
+        Layout {
+            bytes: self.out[start..].to_vec(),
+            gaps,
+            tail: from,
+        }
+    }
+
+    /// Writes an array item with `write` along `layout`, which a call of
+    /// [`Self::record`] with the same keys, structure and names made: only
+    /// the values are formatted, the rest copied. False, and nothing
+    /// written, if `write` gives another number of values (the caller
+    /// writes the item afresh then).
+    pub fn replay(&mut self, layout: &mut Layout, write: impl FnOnce(&mut Json)) -> bool {
+        let mark = (self.out.len(), self.open.last().copied());
+        self.item();
+        self.mode = Mode::Replay(std::mem::take(layout), 0);
+        write(self);
+        let Mode::Replay(done, next) = std::mem::replace(&mut self.mode, Mode::Write) else {
+            return false;
+        };
+        *layout = done;
+        if next != layout.gaps.len() {
+            self.out.truncate(mark.0);
+            if let (Some(has), Some(was)) = (self.open.last_mut(), mark.1) {
+                *has = was;
+            }
+            return false;
+        }
+        self.out.extend_from_slice(&layout.bytes[layout.tail..]);
+        true
     }
 
     pub fn nums(&mut self, vs: &[f64]) {
@@ -244,6 +365,55 @@ impl Json {
 mod tests {
     use super::*;
     use crate::output::number::round_json;
+
+    /// Items replayed along the first one's layout are the bytes written
+    /// afresh (the first item has no comma, the others have); an item with
+    /// another number of values is refused with nothing written, and the
+    /// writer goes on as if it had not been tried.
+    #[test]
+    fn replayed_items_are_the_written_ones() {
+        let item = |w: &mut Json, k: u64| {
+            w.begin_object();
+            w.key("a").num(k as f64 * 0.1 - 0.2);
+            w.key("b").begin_array();
+            for i in 0..3 {
+                w.int(i + k);
+            }
+            w.end_array();
+            w.key("c").str(if k % 2 == 0 { "x" } else { "y\"z" });
+            w.key("d").bool(k % 3 == 0);
+            w.end_object();
+        };
+        let short = |w: &mut Json| {
+            w.begin_object();
+            w.key("a").num(1.0);
+            w.end_object();
+        };
+        let mut w = Json::new();
+        w.begin_object();
+        w.key("items").begin_array();
+        (0..5).for_each(|k| item(&mut w, k));
+        short(&mut w);
+        item(&mut w, 5);
+        w.end_array();
+        w.end_object();
+        let plain = w.finish();
+        let mut w = Json::new();
+        w.begin_object();
+        w.key("items").begin_array();
+        let mut layout = w.record(|w| item(w, 0));
+        for k in 1..5 {
+            assert!(w.replay(&mut layout, |w| item(w, k)));
+        }
+        let len = w.out.len();
+        assert!(!w.replay(&mut layout, short));
+        assert_eq!(w.out.len(), len);
+        short(&mut w);
+        assert!(w.replay(&mut layout, |w| item(w, 5)));
+        w.end_array();
+        w.end_object();
+        assert_eq!(w.finish(), plain);
+    }
 
     /// The word-wise test agrees with the byte-wise one for every byte at
     /// every place of a word and of the remainder, between plain bytes.

@@ -4,8 +4,8 @@
 //! The tests check the bytes against the `serde_json::Value` tree these
 //! documents were built from before (serialised reports, `round_json`).
 
-use super::json::Json;
-use super::report::{CaseReport, FailedCase};
+use super::json::{Json, Layout};
+use super::report::{ByName, CaseReport, FailedCase};
 use crate::kc::axle::WheelSlopes;
 use crate::kc::compliance::WheelCompliance;
 use crate::kc::steer::WheelSteer;
@@ -101,6 +101,24 @@ fn case(w: &mut Json, c: &CaseReport) {
     w.end_object();
 }
 
+/// What a case's layout depends on besides its values: how many elements of
+/// each kind and loads it has, and which names (by address: the reports of
+/// one `Reporter` share them; equal names elsewhere only cost a recording).
+fn shape(c: &CaseReport, out: &mut Vec<usize>) {
+    fn names<T>(out: &mut Vec<usize>, m: &ByName<T>) {
+        out.push(m.len());
+        out.extend(m.iter().map(|(k, _)| k.as_ptr() as usize));
+    }
+    out.clear();
+    names(out, &c.bushings);
+    names(out, &c.frictions);
+    names(out, &c.joints);
+    names(out, &c.parts);
+    names(out, &c.springs);
+    names(out, &c.wheels);
+    out.push(c.loads.len());
+}
+
 fn failed_case(w: &mut Json, f: &FailedCase) {
     w.begin_object();
     w.key("code").str(f.code);
@@ -128,8 +146,19 @@ pub fn solve(
     let mut w = Json::new();
     w.begin_object();
     w.key("cases").begin_array();
+    // The cases of a path name the same elements (shared names, see
+    // `report::Reporter`): the first of each shape is written and its layout
+    // recorded, the others only format their values into it.
+    let (mut this, mut last): (Vec<usize>, Option<(Vec<usize>, Layout)>) = (Vec::new(), None);
     for c in cases {
-        case(&mut w, c);
+        shape(c, &mut this);
+        let replayed = match &mut last {
+            Some((was, layout)) if *was == this => w.replay(layout, |w| case(w, c)),
+            _ => false,
+        };
+        if !replayed {
+            last = Some((this.clone(), w.record(|w| case(w, c))));
+        }
     }
     if let Some(f) = failed {
         failed_case(&mut w, f);
@@ -383,7 +412,7 @@ mod tests {
     use crate::kc::kc_rows;
     use crate::model::{LoadSetId, Model};
     use crate::output::number::round_exact;
-    use crate::output::report::case_report;
+    use crate::output::report::Reporter;
     use crate::statics::{Problem, State, compliance, path::run_set};
     use serde_json::json;
 
@@ -440,17 +469,19 @@ mod tests {
         out
     }
 
-    /// `solve`'s document both ways.
+    /// `solve`'s document both ways (the reports by one `Reporter`, as
+    /// `axle solve` makes them: the writer replays the cases' layout).
     fn both_solve(m: &Model, set: LoadSetId) -> (String, String) {
         let p = Problem::new(m).expect("problem");
         let run = run_set(&p, set, &State::design(m));
         let ls = &m.load_sets[set.index()];
+        let reporter = Reporter::new(m);
         let reports: Vec<CaseReport> = run
             .steps
             .iter()
             .zip(&ls.cases)
             .enumerate()
-            .map(|(k, (eq, c))| case_report(m, &c.name, k + 1, eq))
+            .map(|(k, (eq, c))| reporter.case(&c.name, k + 1, eq))
             .collect();
         let failed = run.failure.as_ref().map(|e| {
             let name = &ls.cases[e.case].name;
