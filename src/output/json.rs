@@ -27,7 +27,7 @@ pub struct Json {
 /// strings) lie in them: the layout of every item with the same keys, the
 /// same structure and the same names ([`Json::record`], [`Json::replay`]).
 #[derive(Debug, Default)]
-pub struct Layout {
+pub struct Template {
     bytes: Vec<u8>,
     /// The bytes before each value, and after the last.
     gaps: Vec<std::ops::Range<usize>>,
@@ -40,7 +40,7 @@ enum Mode {
     Record(usize, Vec<(usize, usize)>),
     /// The layout and the next value's index (past the last: the calls do not
     /// match it).
-    Replay(Layout, usize),
+    Replay(Template, usize),
 }
 
 /// [`Json::line`] below the depths of the documents (kept out of its way).
@@ -231,7 +231,7 @@ impl Json {
 
     /// Writes an array item with `write` and returns its layout, for
     /// [`Self::replay`] to write items of the same shape by their values.
-    pub fn record(&mut self, write: impl FnOnce(&mut Json)) -> Layout {
+    pub fn record(&mut self, write: impl FnOnce(&mut Json)) -> Template {
         self.item();
         self.after_key = true;
         let start = self.out.len();
@@ -246,7 +246,7 @@ impl Json {
             .iter()
             .map(|&(a, b)| std::mem::replace(&mut from, b)..a)
             .collect();
-        Layout {
+        Template {
             bytes: self.out[start..].to_vec(),
             gaps,
             tail: from,
@@ -258,7 +258,7 @@ impl Json {
     /// the values are formatted, the rest copied. False, and nothing
     /// written, if `write` gives another number of values (the caller
     /// writes the item afresh then).
-    pub fn replay(&mut self, layout: &mut Layout, write: impl FnOnce(&mut Json)) -> bool {
+    pub fn replay(&mut self, layout: &mut Template, write: impl FnOnce(&mut Json)) -> bool {
         let mark = (self.out.len(), self.open.last().copied());
         self.item();
         self.mode = Mode::Replay(std::mem::take(layout), 0);

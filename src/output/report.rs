@@ -16,9 +16,8 @@ use std::sync::Arc;
 pub type Name = Arc<str>;
 
 /// A report's elements by name, in name order (the JSON documents' key
-/// order): a sorted list rather than a map, because every case of a path
-/// names the same elements in the same order, which the [`Reporter`] sorts
-/// once.
+/// order): a list sorted when built (a handful of names, most already in
+/// order) rather than a map with a node allocation per case and kind.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ByName<T>(Vec<(Name, T)>);
 
@@ -26,6 +25,7 @@ impl<T> ByName<T> {
     /// From entries with distinct names, in any order.
     pub fn new(mut entries: Vec<(Name, T)>) -> ByName<T> {
         entries.sort_by(|a, b| a.0.cmp(&b.0));
+        debug_assert!(entries.windows(2).all(|w| w[0].0 != w[1].0), "names repeat");
         ByName(entries)
     }
 
@@ -160,11 +160,6 @@ pub struct CaseReport {
     #[serde(skip_serializing_if = "ByName::is_empty")]
     pub frictions: ByName<FrictionReport>,
     pub substeps: usize,
-}
-
-/// Every friction element at a converged (committed) state.
-pub fn friction_reports(model: &Model, st: &State) -> ByName<FrictionReport> {
-    Reporter::new(model).frictions(st)
 }
 
 /// The report of one solved case (`step` counts from 1).

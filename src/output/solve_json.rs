@@ -4,7 +4,7 @@
 //! The tests check the bytes against the `serde_json::Value` tree these
 //! documents were built from before (serialised reports, `round_json`).
 
-use super::json::{Json, Layout};
+use super::json::{Json, Template};
 use super::report::{ByName, CaseReport, FailedCase};
 use crate::kc::axle::WheelSlopes;
 use crate::kc::compliance::WheelCompliance;
@@ -149,7 +149,7 @@ pub fn solve(
     // The cases of a path name the same elements (shared names, see
     // `report::Reporter`): the first of each shape is written and its layout
     // recorded, the others only format their values into it.
-    let (mut this, mut last): (Vec<usize>, Option<(Vec<usize>, Layout)>) = (Vec::new(), None);
+    let (mut this, mut last): (Vec<usize>, Option<(Vec<usize>, Template)>) = (Vec::new(), None);
     for c in cases {
         shape(c, &mut this);
         let replayed = match &mut last {
