@@ -331,16 +331,18 @@ impl Json {
     pub fn value(&mut self, v: &Value) {
         match v {
             Value::Null => {
-                self.item();
+                self.value_start();
                 self.out.extend_from_slice(b"null");
+                self.value_end();
             }
             Value::Bool(b) => self.bool(*b),
             Value::Number(n) => match n.as_f64() {
                 Some(f) if n.is_f64() => self.num(f),
                 _ => {
                     // integers print as serde_json prints them (Display)
-                    self.item();
+                    self.value_start();
                     let _ = write!(self.out, "{n}");
+                    self.value_end();
                 }
             },
             Value::String(s) => self.str(s),

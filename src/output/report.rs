@@ -186,8 +186,8 @@ pub struct Reporter<'m> {
     frictions: Vec<Name>,
 }
 
-fn names<'a, T: 'a>(items: &'a [T], name: impl Fn(&T) -> &String) -> Vec<Name> {
-    items.iter().map(|x| Name::from(name(x).as_str())).collect()
+fn names<T>(items: &[T], name: impl Fn(&T) -> &str) -> Vec<Name> {
+    items.iter().map(|x| Name::from(name(x))).collect()
 }
 
 impl<'m> Reporter<'m> {
@@ -223,7 +223,7 @@ impl<'m> Reporter<'m> {
     }
 
     /// Every friction element at a converged (committed) state.
-    pub fn frictions(&self, st: &State) -> ByName<FrictionReport> {
+    fn frictions(&self, st: &State) -> ByName<FrictionReport> {
         let model = self.model;
         model
             .frictions
