@@ -144,6 +144,51 @@ impl Pattern {
         self.n + self.m
     }
 
+    /// The pattern of the slots `keep` holds (the rest left out), with its
+    /// own fill-reducing order; None if AMD fails.
+    pub fn restricted(&self, keep: &[bool]) -> Option<Pattern> {
+        let (mut col_ptr, mut row_idx, mut coord_end) = (vec![0], Vec::new(), Vec::new());
+        for j in 0..self.dim() {
+            let (top, bottom) = self.column_halves(j);
+            row_idx.extend(top.filter(|&k| keep[k]).map(|k| self.row_idx[k]));
+            coord_end.push(row_idx.len());
+            row_idx.extend(bottom.filter(|&k| keep[k]).map(|k| self.row_idx[k]));
+            col_ptr.push(row_idx.len());
+        }
+        let (order, order_inv) = column_order(self.dim(), &col_ptr, &row_idx)?;
+        Some(self.with_structure(col_ptr, row_idx, coord_end, order, order_inv))
+    }
+
+    /// A copy of the structure and order (not the seed pivots).
+    pub fn duplicate(&self) -> Pattern {
+        let (c, r, e) = (&self.col_ptr, &self.row_idx, &self.coord_end);
+        let (o, oi) = (self.order.clone(), self.order_inv.clone());
+        self.with_structure(c.clone(), r.clone(), e.clone(), o, oi)
+    }
+
+    fn with_structure(
+        &self,
+        col_ptr: Vec<usize>,
+        row_idx: Vec<usize>,
+        coord_end: Vec<usize>,
+        order: Vec<usize>,
+        order_inv: Vec<usize>,
+    ) -> Pattern {
+        Pattern {
+            n: self.n,
+            m: self.m,
+            parts: self.parts.clone(),
+            of_mult: self.of_mult.clone(),
+            mult_pos: self.mult_pos.clone(),
+            col_ptr,
+            row_idx,
+            coord_end,
+            order,
+            order_inv,
+            pivots: std::sync::OnceLock::new(),
+        }
+    }
+
     /// The coordinates (the first rows and columns; the multipliers follow).
     pub fn coords(&self) -> usize {
         self.n

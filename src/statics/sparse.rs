@@ -19,6 +19,7 @@ use super::condition::{BlockSizes, Scale, largest};
 use super::pattern::Pattern;
 use super::pivoting::{self, Factors};
 use std::cell::Cell;
+use std::ops::Range;
 use std::sync::Arc;
 
 /// A reused pivot must be at least this fraction of the largest candidate in
@@ -37,13 +38,99 @@ const PIVOT_THRESHOLD: f64 = 0.0001;
 /// from the same one: a fresh factorisation costs 10-30 refactorisations).
 #[derive(Debug, Clone)]
 pub(crate) struct Pivots {
+    live: Arc<Live>,
     own: Factors,
     row_perm: Vec<usize>,
     row_perm_inv: Vec<usize>,
 }
 
+/// The slots of a [`Pattern`] the factors are computed on: those that may
+/// hold a non-zero. The pattern is structural (whole 6×6 blocks of coupled
+/// parts, a joint equation at all six coordinates of its parts), and most of
+/// it is zero in every matrix: a joint's equation involves three of a part's
+/// six coordinates, and a joint's curvature only its rotations. The seed
+/// pivots' slots ([`super::tangent::seed_pivots`]) are 391 of the 828 on one
+/// McPherson corner, where a refactorisation on them takes 1 744
+/// multiply-adds instead of 4 116 on all, and 2 140 of 4 824 on the car
+/// (15 206 instead of 33 427; `docs/performance.md`). A matrix with a
+/// non-zero outside them (a stop coming into contact) widens them for the
+/// solver that met it ([`SparseLu::factor`]).
+#[derive(Debug)]
+pub(crate) struct Live {
+    /// The pattern of the live slots, with its own fill-reducing order.
+    pattern: Pattern,
+    /// Per slot of `pattern`, the slot of the full pattern it is.
+    from: Vec<usize>,
+    /// The full pattern's other slots, as runs of consecutive slots: zero in
+    /// every matrix factorised.
+    dead: Vec<Range<usize>>,
+}
+
+impl Live {
+    /// The slots of `full` that `keep` holds; None if the fill-reducing
+    /// order cannot be computed.
+    pub fn new(full: &Pattern, keep: &[bool]) -> Option<Live> {
+        let pattern = full.restricted(keep)?;
+        let from = (0..full.nnz()).filter(|&k| keep[k]).collect();
+        let mut dead: Vec<Range<usize>> = Vec::new();
+        for k in (0..full.nnz()).filter(|&k| !keep[k]) {
+            match dead.last_mut() {
+                Some(r) if r.end == k => r.end += 1,
+                _ => dead.push(k..k + 1),
+            }
+        }
+        Some(Live {
+            pattern,
+            from,
+            dead,
+        })
+    }
+
+    /// Every slot of `full`.
+    pub fn all(full: &Pattern) -> Live {
+        Live {
+            pattern: full.duplicate(),
+            from: (0..full.nnz()).collect(),
+            dead: Vec::new(),
+        }
+    }
+
+    /// Whether every non-zero of `values` (in the full pattern's slots) is
+    /// a live slot.
+    fn holds(&self, values: &[f64]) -> bool {
+        // The bits of each run's values but their signs, or-ed (no branch a
+        // value): zero exactly when every value is ±0.
+        self.dead.iter().all(|r| {
+            let bits = values[r.clone()]
+                .iter()
+                .fold(0u64, |b, v| b | (v.to_bits() << 1));
+            bits == 0
+        })
+    }
+
+    /// These slots and the non-zeros of `values`.
+    fn widened(&self, full: &Pattern, values: &[f64]) -> Option<Live> {
+        let mut keep: Vec<bool> = values.iter().map(|v| *v != 0.0).collect();
+        self.from.iter().for_each(|&k| keep[k] = true);
+        Live::new(full, &keep)
+    }
+
+    /// The slots kept, of how many.
+    #[cfg(test)]
+    pub fn count(&self) -> (usize, usize) {
+        let dead: usize = self.dead.iter().map(|r| r.len()).sum();
+        (self.from.len(), self.from.len() + dead)
+    }
+}
+
 pub(crate) struct SparseLu {
     pattern: Arc<Pattern>,
+    /// The slots factorised, and their values gathered for a fresh
+    /// factorisation (a refactorisation reads them from `a`).
+    live: Arc<Live>,
+    live_a: Vec<f64>,
+    /// How often a matrix widened `live`.
+    pub widened: usize,
     row_perm: Vec<usize>,
     row_perm_inv: Vec<usize>,
     /// The values factorised (in the pattern's slots).
@@ -75,8 +162,16 @@ impl SparseLu {
     pub fn new(pattern: Arc<Pattern>) -> SparseLu {
         let n = pattern.dim();
         let start = pattern.pivots.get().cloned();
+        // Without seed pivots (their matrix failed), every slot is live.
+        let live = match &start {
+            Some(pv) => pv.live.clone(),
+            None => Arc::new(Live::all(&pattern)),
+        };
         let mut lu = SparseLu {
             a: vec![0.0; pattern.nnz()],
+            live_a: vec![0.0; live.from.len()],
+            live,
+            widened: 0,
             pattern,
             row_perm: vec![0; n],
             row_perm_inv: vec![0; n],
@@ -100,9 +195,19 @@ impl SparseLu {
         lu
     }
 
+    /// A factorisation on the slots `live`, pivoting afresh at its first
+    /// matrix (the seed pivots, if any, are of other slots).
+    pub fn starting_with(pattern: Arc<Pattern>, live: Live) -> SparseLu {
+        let mut lu = SparseLu::new(pattern);
+        lu.live_a = vec![0.0; live.from.len()];
+        lu.live = Arc::new(live);
+        lu.reusable = false;
+        lu
+    }
+
     /// `pos` for the current row permutation.
     fn positions(&mut self) {
-        let (p, inv) = (&*self.pattern, &self.row_perm_inv);
+        let (p, inv) = (&self.live.pattern, &self.row_perm_inv);
         self.pos.clear();
         self.pos.extend(p.row_idx.iter().map(|&r| inv[r]));
     }
@@ -110,6 +215,7 @@ impl SparseLu {
     /// The pivots of the last factorisation, if it succeeded.
     pub fn pivots(&self) -> Option<Pivots> {
         self.valid.then(|| Pivots {
+            live: self.live.clone(),
             own: self.own.clone(),
             row_perm: self.row_perm.clone(),
             row_perm_inv: self.row_perm_inv.clone(),
@@ -134,6 +240,15 @@ impl SparseLu {
         self.a.copy_from_slice(values);
         self.a_max = largest(values);
         self.scale.set(None);
+        if !self.live.holds(values) {
+            let Some(live) = self.live.widened(&self.pattern, values) else {
+                return false;
+            };
+            self.live = Arc::new(live);
+            self.live_a.resize(self.live.from.len(), 0.0);
+            self.reusable = false;
+            self.widened += 1;
+        }
         self.last_reused = self.reusable && self.refactor();
         if self.last_reused {
             self.reused += 1;
@@ -164,20 +279,30 @@ impl SparseLu {
 
     /// A factorisation of `self.a` with fresh pivots ([`pivoting`]) into `own`.
     fn factor_fresh(&mut self) -> bool {
-        let (p, f) = (&*self.pattern, &mut self.own);
-        pivoting::factor(p, &self.a, f, &mut self.row_perm, &mut self.row_perm_inv)
+        for (v, &k) in self.live_a.iter_mut().zip(&self.live.from) {
+            *v = self.a[k];
+        }
+        let (p, f) = (&self.live.pattern, &mut self.own);
+        pivoting::factor(
+            p,
+            &self.live_a,
+            f,
+            &mut self.row_perm,
+            &mut self.row_perm_inv,
+        )
     }
 
     /// Left-looking LU of `self.a` with the pivots and structure of `own`;
     /// false (and `own` to be factorised afresh) if a pivot fails the
     /// threshold or is zero or not finite.
     fn refactor(&mut self) -> bool {
-        let (p, f, x) = (&*self.pattern, &mut self.own, &mut self.work);
+        let (p, f, x) = (&self.live.pattern, &mut self.own, &mut self.work);
         'cols: {
             for j in 0..p.dim() {
                 let c = p.order[j];
-                for k in p.col_ptr[c]..p.col_ptr[c + 1] {
-                    x[self.pos[k]] = self.a[k];
+                let live = p.col_ptr[c]..p.col_ptr[c + 1];
+                for (&i, &k) in self.pos[live.clone()].iter().zip(&self.live.from[live]) {
+                    x[i] = self.a[k];
                 }
                 let (us, ud) = (f.u_ptr[j], f.u_ptr[j + 1] - 1);
                 for (&i, u) in f.u_idx[us..ud].iter().zip(&mut f.u_val[us..ud]) {
@@ -194,9 +319,12 @@ impl SparseLu {
                 let (ls, le) = (f.l_ptr[j] + 1, f.l_ptr[j + 1]);
                 let piv = x[j];
                 x[j] = 0.0;
-                let big = f.l_idx[ls..le]
-                    .iter()
-                    .fold(0.0f64, |m, &i| m.max(x[i].abs()));
+                // (A NaN is passed over, as by `f64::max`; the solve's
+                // finiteness check finds it.)
+                let big = f.l_idx[ls..le].iter().fold(0.0f64, |m, &i| {
+                    let v = x[i].abs();
+                    if v > m { v } else { m }
+                });
                 if !(piv.is_finite() && piv != 0.0 && piv.abs() >= PIVOT_THRESHOLD * big) {
                     f.l_idx[ls..le].iter().for_each(|&i| x[i] = 0.0);
                     break 'cols false;
@@ -219,7 +347,7 @@ impl SparseLu {
             return false;
         }
         // P A Q = L U: y = P b, then L U z = y, then x = Q z.
-        let (f, y, p) = (&self.own, &mut self.work, &*self.pattern);
+        let (f, y, p) = (&self.own, &mut self.work, &self.live.pattern);
         for (pos, &r) in self.row_perm.iter().enumerate() {
             y[pos] = b[r];
         }
@@ -621,6 +749,96 @@ mod tests {
                 "{updates} vs {}",
                 one.0
             );
+        }
+    }
+
+    /// A matrix with a non-zero outside the slots the factors cover widens
+    /// them (once) and is solved as the dense LU solves it; a matrix inside
+    /// is solved on the narrower slots.
+    #[test]
+    fn a_non_zero_outside_the_live_slots_widens_them() {
+        let (p, pat) = pattern(1);
+        let v = values(&pat, p.layout.n(), 21);
+        // Every fifth slot off the diagonal left out.
+        let mut keep: Vec<bool> = (0..pat.nnz()).map(|k| k % 5 != 0).collect();
+        for j in 0..pat.dim() {
+            for k in pat.col_ptr[j]..pat.col_ptr[j + 1] {
+                keep[k] |= pat.row_idx[k] == j;
+            }
+        }
+        let narrow = Live::new(&pat, &keep).expect("order");
+        assert!(narrow.count().0 < pat.nnz());
+        let inside: Vec<f64> = v
+            .iter()
+            .zip(&keep)
+            .map(|(x, k)| if *k { *x } else { 0.0 })
+            .collect();
+        let b: Vec<f64> = (0..pat.dim()).map(|i| (i as f64 * 0.61).cos()).collect();
+        let check = |s: &mut SparseLu, vals: &[f64]| {
+            let mut d = Lu::new(pat.dim(), p.layout.n());
+            assert!(d.factor(&dense(&pat, vals)) && s.factor(vals));
+            let (mut x, mut y) = (b.clone(), b.clone());
+            assert!(d.solve(&mut x) && s.solve(&mut y) && s.satisfies(vals, &y, &b));
+            let scale = x.iter().fold(0.0f64, |m, u| m.max(u.abs()));
+            for (u, w) in x.iter().zip(&y) {
+                assert!((u - w).abs() <= 1e-10 * scale, "{u} {w}");
+            }
+        };
+        let mut s = SparseLu::starting_with(pat.clone(), narrow);
+        check(&mut s, &inside);
+        assert_eq!(
+            (s.widened, s.live.count().0),
+            (0, keep.iter().filter(|k| **k).count())
+        );
+        check(&mut s, &v);
+        assert_eq!((s.widened, s.live.count().0), (1, pat.nnz()));
+        check(&mut s, &inside);
+        assert_eq!(s.widened, 1);
+    }
+
+    /// The slots the seed pivots cover ([`crate::statics::tangent::seed_pivots`],
+    /// found at design and at a generic state near it) hold every Newton
+    /// matrix at the equilibria of the McPherson's bump sweep and of the
+    /// car's load cases (so no solver along them widens its factors), and
+    /// they are about half the structural pattern: a refactorisation on them
+    /// takes under half the multiply-adds of one on the whole pattern.
+    #[test]
+    fn the_seed_slots_hold_every_matrix_along_real_paths() {
+        for (file, set) in [
+            ("examples/mcpherson.axle", "bump"),
+            ("examples/vehicle.axle", "vehicle"),
+        ] {
+            let src = std::fs::read_to_string(file).expect("example");
+            let (_, c) = crate::check::check_str(file, &src);
+            let m = c.model.expect("the example checks");
+            let p = Problem::new(&m).expect("problem");
+            let pat = p.pattern.clone().expect("the sparse path");
+            let pv = pat.pivots.get().expect("seed pivots");
+            let (live, all) = pv.live.count();
+            let mut whole = SparseLu::starting_with(pat.clone(), Live::all(&pat));
+            let mut ws = crate::statics::assembly::Workspace::new(&p);
+            let design = crate::statics::coords::State::design(&m);
+            ws.eval(&p, &design, &[], true).expect("evaluates");
+            let crate::statics::tangent::NewtonMatrix::Sparse(_, v) = &ws.a else {
+                panic!("sparse storage")
+            };
+            assert!(whole.factor(v));
+            let (narrow, full) = (pv.own.updates(), whole.own.updates());
+            eprintln!("{file}: {live} of {all} slots, {narrow} multiply-adds against {full}");
+            assert!(
+                2 * live < all + all / 10 && 2 * narrow < full,
+                "{live} {all} {narrow} {full}"
+            );
+            let id = m.load_set_named(set).expect("load set");
+            let path = solve_path(&p, id).expect("solves");
+            for eq in &path {
+                ws.eval(&p, &eq.state, eq.state.loads(), true)
+                    .expect("evaluates");
+                let crate::statics::tangent::NewtonMatrix::Sparse(_, v) = &ws.a else {
+                    panic!("sparse storage")
+                };
+                assert!(pv.live.holds(v), "{file}");
+            }
         }
     }
 }

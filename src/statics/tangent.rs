@@ -7,15 +7,17 @@
 use super::condition::Scale;
 use super::linear::Lu;
 use super::pattern::Pattern;
-use super::sparse::SparseLu;
+use super::sparse::{Live, SparseLu};
 use faer::Mat;
 use nalgebra::DMatrix;
 use std::sync::Arc;
 
 /// The size `n + m` from which the sparse path is taken. Measured with the
-/// coupled-corners bench (`docs/performance.md`): the dense path is faster
-/// for one McPherson corner (47) and the sparse one from two coupled corners.
-pub(crate) const SPARSE_FROM: usize = 80;
+/// McPherson benches (`docs/performance.md`): on the slots that can be
+/// non-zero ([`Live`]) the sparse path is faster from one McPherson corner
+/// (47 unknowns: a fifth less time on its 500-case path than the dense
+/// one); smaller models were not measured and stay dense.
+pub(crate) const SPARSE_FROM: usize = 40;
 
 pub(crate) enum NewtonMatrix {
     Dense(Mat<f64>),
@@ -73,21 +75,90 @@ impl NewtonMatrix {
 
 /// Factorises the Newton matrix at design (no loads, no multipliers) once,
 /// for the pivots every sparse LU of `p` starts refactorising from: the same
-/// for every solver of the problem, whatever ran before on which thread.
+/// for every solver of the problem, whatever ran before on which thread. The
+/// factors cover the slots of the pattern that are non-zero at design or at a
+/// generic state near it ([`probe`]; [`Live`]).
 pub(crate) fn seed_pivots(p: &super::Problem) {
     let Some(pat) = &p.pattern else { return };
     let mut ws = super::assembly::Workspace::new(p);
     let design = super::coords::State::design(&p.model);
+    let Some(generic) = probe(p, &mut ws, &design) else {
+        return;
+    };
     if ws.eval(p, &design, &[], true).is_err() {
         return;
     }
     if let NewtonMatrix::Sparse(_, v) = &ws.a {
-        let mut lu = SparseLu::new(pat.clone());
+        let mut keep: Vec<bool> = v
+            .iter()
+            .zip(&generic)
+            .map(|(a, b)| *a != 0.0 || *b != 0.0)
+            .collect();
+        whole_blocks(pat, &mut keep);
+        let Some(live) = Live::new(pat, &keep) else {
+            return;
+        };
+        let mut lu = SparseLu::starting_with(pat.clone(), live);
         if lu.factor(v)
             && let Some(pv) = lu.pivots()
         {
             let _ = pat.pivots.set(pv);
         }
+    }
+}
+
+/// Keeps every entry of a 3×3 block of `K` (a translation or rotation
+/// half of two parts) that has one kept: such a block is a stiffness in the
+/// axes of an element that turn with its parts, and an entry that is zero in
+/// the probe's axes (an axis-aligned bushing's cross term) is only rounding
+/// away from a non-zero elsewhere.
+fn whole_blocks(pat: &Pattern, keep: &mut [bool]) {
+    let n = pat.coords();
+    let mut live = std::collections::HashSet::new();
+    for j in 0..n {
+        let (top, _) = pat.column_halves(j);
+        for k in top.filter(|&k| keep[k]) {
+            live.insert((pat.row_idx[k] / 3, j / 3));
+        }
+    }
+    for j in 0..n {
+        let (top, _) = pat.column_halves(j);
+        for k in top {
+            keep[k] |= live.contains(&(pat.row_idx[k] / 3, j / 3));
+        }
+    }
+}
+
+/// The Newton matrix's values (in the pattern's slots) at a generic state
+/// near `design`: every moving part displaced and turned by up to 1e-3 (mm,
+/// rad) and every multiplier non-zero, so that an entry that is zero only by
+/// the design's symmetry or for want of a reaction (a joint's curvature is
+/// its multiplier times its second derivative) is not taken for a
+/// structural zero. An element whose stiffness is zero near design (a stop
+/// out of contact) stays out; a matrix that needs it widens the factors'
+/// slots when it comes ([`SparseLu::factor`]).
+fn probe(
+    p: &super::Problem,
+    ws: &mut super::assembly::Workspace,
+    design: &super::coords::State,
+) -> Option<Vec<f64>> {
+    // A fixed pseudo-random sequence (an LCG): the same slots every run.
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    };
+    let mut st = design.clone();
+    let n = p.layout.n();
+    let dq = nalgebra::DVector::from_fn(n, |_, _| 1e-3 * next());
+    st.apply(&p.layout, &dq);
+    st.lambda = (0..p.kept.len()).map(|_| 1.0 + next().abs()).collect();
+    ws.eval(p, &st, &[], true).ok()?;
+    match &ws.a {
+        NewtonMatrix::Sparse(_, v) => Some(v.clone()),
+        NewtonMatrix::Dense(_) => None,
     }
 }
 
