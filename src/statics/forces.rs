@@ -5,7 +5,7 @@
 
 use super::coords::{Layout, State, marker_kin};
 use super::error::{StaticsError, StaticsErrorKind};
-use super::wrench::{M3x12, Wrench, blocks, d_point_i, d_point_j};
+use super::wrench::{Wrench, blocks, d_point_i, d_point_j};
 use crate::geom::{Mat3, Vec3, projected_angles, skew};
 use crate::model::{
     Bushing, BushingId, ElementId, FrictionId, Model, PointLoad, Spring, SpringId, SpringLaw, Stop,
@@ -75,23 +75,33 @@ pub fn bushing(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> Bu
     // The force acts at p_I on both parts; on J that point is at rho from J's origin.
     let rho = mi.p - mj.x;
     let mut w = Wrench::new(mi.block, mj.block, mi.r, rho);
-    w.drho = d_point_i(&mi.r) - blocks([ZERO, ZERO, Mat3::identity(), ZERO]);
+    // drho = d_point_i(r_I) - [0, 0, I, 0] = [I, -r_I~, 0 - I, 0].
+    w.drho = blocks([
+        Mat3::identity(),
+        -skew(&mi.r),
+        ZERO - Mat3::identity(),
+        ZERO,
+    ]);
     w.g = rj * force;
     w.m = rj * torque;
-    let dt: M3x12 = rj.transpose()
-        * blocks([
-            Mat3::identity(),
-            -skew(&mi.r),
-            -Mat3::identity(),
-            skew(&rho),
-        ]);
-    let da: M3x12 = angle_rates(&q)
-        * rj.transpose()
-        * blocks([ZERO, Mat3::identity(), ZERO, -Mat3::identity()]);
-    // g = R_J F: R_J turns with theta_J, and F changes with t.
-    let turn_j = blocks([ZERO, ZERO, ZERO, Mat3::identity()]);
-    w.dg = -skew(&w.g) * turn_j - rj * kt * dt;
-    w.dm = -skew(&w.m) * turn_j - rj * ka * da;
+    // Block by block (a product with a 3×12 matrix of identity and zero
+    // blocks is mostly multiplications by 0 and 1; each block of the product
+    // is the product with that block, so the values are the same):
+    //   dt = R_J^T [I, -r_I~, -I, rho~],
+    //   da = A R_J^T [0, I, 0, -I]  (A: the angles' rates),
+    //   g = R_J F: R_J turns with theta_J, and F changes with t, so
+    //   dg = [0, 0, 0, -g~] - R_J K_t dt, and likewise dm with K_a and da.
+    let rt = rj.transpose();
+    let dt = [rt, rt * -skew(&mi.r), -rt, rt * skew(&rho)];
+    let ra = angle_rates(&q) * rt;
+    let (pt, pa) = (rj * kt, rj * ka);
+    w.dg = blocks([
+        -(pt * dt[0]),
+        -(pt * dt[1]),
+        -(pt * dt[2]),
+        -skew(&w.g) - pt * dt[3],
+    ]);
+    w.dm = blocks([ZERO, -(pa * ra), ZERO, -skew(&w.m) + pa * ra]);
     BushingEval {
         t,
         angles,
