@@ -9,7 +9,7 @@ use crate::diagnostic::Diagnostic;
 use crate::model::{BushingId, ElementId, Model, WheelId};
 use crate::statics::State;
 use crate::statics::coords::Layout;
-use crate::statics::forces::bushing;
+use crate::statics::forces::bushing_deformation;
 use std::collections::BTreeMap;
 
 /// Translational deformation (mm) beyond which a bushing is implausible:
@@ -45,12 +45,12 @@ impl Finding {
     }
 }
 
-/// Everything implausible at one converged state.
-pub fn findings(model: &Model, state: &State) -> Vec<Finding> {
-    let layout = Layout::new(model);
+/// Everything implausible at one converged state (`layout` and `design`: the
+/// model's, found once for a path).
+pub fn findings(model: &Model, layout: &Layout, design: &State, state: &State) -> Vec<Finding> {
     let mut out = Vec::new();
     for (k, b) in model.bushings.iter().enumerate() {
-        let mm = bushing(model, &layout, state, b).t.norm();
+        let mm = bushing_deformation(model, layout, state, b).0.norm();
         if mm > BUSHING_DEFORMATION_LIMIT_MM {
             out.push(Finding::BushingDeformed {
                 bushing: BushingId(k as u32),
@@ -58,9 +58,8 @@ pub fn findings(model: &Model, state: &State) -> Vec<Finding> {
             });
         }
     }
-    let design = State::design(model);
     for (k, w) in model.wheels.iter().enumerate() {
-        let ground = height(model, &design, w.contact);
+        let ground = height(model, design, w.contact);
         let above = height(model, state, w.centre) - ground;
         if above < 0.0 {
             out.push(Finding::WheelBelowGround {

@@ -5,7 +5,7 @@ use crate::geom::Vec3;
 use crate::kc::{WheelQuantities, wheel_quantities_from};
 use crate::model::{BushingId, ElementId, FrictionId, FrictionMotion, Model, PartId, SpringId};
 use crate::statics::coords::Layout;
-use crate::statics::forces::{bushing, spring};
+use crate::statics::forces::{bushing, bushing_deformation, spring};
 use crate::statics::friction;
 use crate::statics::{Equilibrium, State, StaticsError};
 use serde::Serialize;
@@ -398,16 +398,20 @@ pub struct AngleWarning {
 }
 
 pub fn angle_warnings(model: &Model, state: &State) -> Vec<AngleWarning> {
-    let layout = Layout::new(model);
+    angle_warnings_in(model, &Layout::new(model), state)
+}
+
+/// [`angle_warnings`] with the model's coordinate layout (one for a path).
+pub fn angle_warnings_in(model: &Model, layout: &Layout, state: &State) -> Vec<AngleWarning> {
     let mut out = Vec::new();
     for (k, b) in model.bushings.iter().enumerate() {
-        let e = bushing(model, &layout, state, b);
+        let (_, angles) = bushing_deformation(model, layout, state, b);
         // Only the tilts: ax and ay read the direction of z_I alone, and the
         // projections are exact for a rotation about z_J (az = the angle), so
         // torsion about the bushing's own axis, however large, is no reason
         // to doubt them (docs/language.md, "Deformation").
         for (i, name) in ["ax", "ay"].into_iter().enumerate() {
-            let v = e.angles[i].to_degrees();
+            let v = angles[i].to_degrees();
             if v.abs() > ANGLE_LIMIT_DEG {
                 out.push(AngleWarning {
                     bushing: ElementId::Bushing(BushingId(k as u32)),

@@ -3,21 +3,24 @@
 //! W1002, W1003). (Redundant constraints are reported once, by the checker's
 //! mobility analysis.)
 
-use super::report::{ANGLE_LIMIT_DEG, AngleWarning, angle_warnings};
+use super::report::{ANGLE_LIMIT_DEG, AngleWarning, angle_warnings_in};
 use crate::diagnostic::Diagnostic;
 use crate::model::{ElementId, Model};
 use crate::statics::Equilibrium;
+use crate::statics::State;
+use crate::statics::coords::Layout;
 
 /// Every warning of a path's converged cases (`names[k]` names case `k`):
 /// the angle warnings, then the implausible states.
 pub fn of_path(model: &Model, names: &[String], eqs: &[Equilibrium]) -> Vec<Diagnostic> {
+    let (layout, design) = (Layout::new(model), State::design(model));
     let angles_per_case: Vec<_> = eqs
         .iter()
-        .map(|e| angle_warnings(model, &e.state))
+        .map(|e| angle_warnings_in(model, &layout, &e.state))
         .collect();
     let found: Vec<_> = eqs
         .iter()
-        .map(|e| super::plausibility::findings(model, &e.state))
+        .map(|e| super::plausibility::findings(model, &layout, &design, &e.state))
         .collect();
     let mut out = angles(model, names, &angles_per_case);
     out.extend(super::plausibility::warnings(model, names, &found));

@@ -3,7 +3,7 @@
 //! tabulated), stops (compression, rebound) and point loads (`conventions.md`);
 //! friction elements are evaluated by [`super::friction`].
 
-use super::coords::{Layout, State, marker_kin};
+use super::coords::{Layout, MarkerKin, State, marker_kin};
 use super::error::{StaticsError, StaticsErrorKind};
 use super::wrench::{Wrench, blocks, d_point_i, d_point_j};
 use crate::geom::{Mat3, Vec3, projected_angles, skew};
@@ -51,13 +51,34 @@ pub(super) fn angle_rates(q: &Mat3) -> Mat3 {
     Mat3::from_rows(&[ax, ay, az])
 }
 
+/// A bushing's deformation alone, as [`bushing`] computes it: `t = R_J^T
+/// (p_I - p_J)` (mm) and the projected angles of `R_J^T R_I` (rad), without
+/// its forces and derivatives (for the warnings of a path's cases).
+pub fn bushing_deformation(
+    model: &Model,
+    layout: &Layout,
+    state: &State,
+    b: &Bushing,
+) -> (Vec3, Vec3) {
+    let mi = marker_kin(model, layout, state, b.i);
+    let mj = marker_kin(model, layout, state, b.j);
+    let (t, _, angles) = deformation(&mi, &mj);
+    (t, angles)
+}
+
+/// `t`, the relative rotation `Q = R_J^T R_I` and its projected angles.
+fn deformation(mi: &MarkerKin, mj: &MarkerKin) -> (Vec3, Mat3, Vec3) {
+    let rj = mj.axes;
+    let t = rj.transpose() * (mi.p - mj.p);
+    let q = rj.transpose() * mi.axes;
+    (t, q, projected_angles(&q))
+}
+
 pub fn bushing(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> BushingEval {
     let mi = marker_kin(model, layout, state, b.i);
     let mj = marker_kin(model, layout, state, b.j);
     let rj = mj.axes;
-    let t = rj.transpose() * (mi.p - mj.p);
-    let q = rj.transpose() * mi.axes;
-    let angles = projected_angles(&q);
+    let (t, q, angles) = deformation(&mi, &mj);
     let (t0, a0) = (values(&b.offset), values(&b.angle_offset));
     let (f0, m0) = (values(&b.preload), values(&b.torque_preload));
     let mut force = Vec3::zeros();
