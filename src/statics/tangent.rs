@@ -89,12 +89,8 @@ pub(crate) fn seed_pivots(p: &super::Problem) {
         return;
     }
     if let NewtonMatrix::Sparse(_, v) = &ws.a {
-        let mut keep: Vec<bool> = v
-            .iter()
-            .zip(&generic)
-            .map(|(a, b)| *a != 0.0 || *b != 0.0)
-            .collect();
-        whole_blocks(pat, &mut keep);
+        let (at_design, near) = (Live::significant(v), Live::significant(&generic));
+        let keep: Vec<bool> = at_design.iter().zip(&near).map(|(a, b)| *a || *b).collect();
         let Some(live) = Live::new(pat, &keep) else {
             return;
         };
@@ -103,28 +99,6 @@ pub(crate) fn seed_pivots(p: &super::Problem) {
             && let Some(pv) = lu.pivots()
         {
             let _ = pat.pivots.set(pv);
-        }
-    }
-}
-
-/// Keeps every entry of a 3×3 block of `K` (a translation or rotation
-/// half of two parts) that has one kept: such a block is a stiffness in the
-/// axes of an element that turn with its parts, and an entry that is zero in
-/// the probe's axes (an axis-aligned bushing's cross term) is only rounding
-/// away from a non-zero elsewhere.
-fn whole_blocks(pat: &Pattern, keep: &mut [bool]) {
-    let n = pat.coords();
-    let mut live = std::collections::HashSet::new();
-    for j in 0..n {
-        let (top, _) = pat.column_halves(j);
-        for k in top.filter(|&k| keep[k]) {
-            live.insert((pat.row_idx[k] / 3, j / 3));
-        }
-    }
-    for j in 0..n {
-        let (top, _) = pat.column_halves(j);
-        for k in top {
-            keep[k] |= live.contains(&(pat.row_idx[k] / 3, j / 3));
         }
     }
 }
