@@ -107,7 +107,7 @@ impl Live {
     /// times its largest entry (and those not a number).
     pub fn significant(values: &[f64]) -> Vec<bool> {
         let tol = DROP * largest(values);
-        values.iter().map(|v| !(v.abs() <= tol)).collect()
+        values.iter().map(|v| v.abs() > tol || v.is_nan()).collect()
     }
 
     /// Whether every entry of `values` (in the full pattern's slots) outside
