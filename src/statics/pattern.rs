@@ -145,8 +145,9 @@ impl Pattern {
     }
 
     /// The pattern of the slots `keep` holds (the rest left out), with its
-    /// own fill-reducing order; None if AMD fails.
-    pub fn restricted(&self, keep: &[bool]) -> Option<Pattern> {
+    /// own fill-reducing order (`reorder`) or this pattern's; None if AMD
+    /// fails.
+    pub fn restricted(&self, keep: &[bool], reorder: bool) -> Option<Pattern> {
         let (mut col_ptr, mut row_idx, mut coord_end) = (vec![0], Vec::new(), Vec::new());
         for j in 0..self.dim() {
             let (top, bottom) = self.column_halves(j);
@@ -155,7 +156,11 @@ impl Pattern {
             row_idx.extend(bottom.filter(|&k| keep[k]).map(|k| self.row_idx[k]));
             col_ptr.push(row_idx.len());
         }
-        let (order, order_inv) = column_order(self.dim(), &col_ptr, &row_idx)?;
+        let (order, order_inv) = if reorder {
+            column_order(self.dim(), &col_ptr, &row_idx)?
+        } else {
+            (self.order.clone(), self.order_inv.clone())
+        };
         Some(self.with_structure(col_ptr, row_idx, coord_end, order, order_inv))
     }
 

@@ -44,7 +44,6 @@ pub(crate) struct Factors {
     pub u_val: Vec<f64>,
 }
 
-#[cfg(test)]
 impl Factors {
     /// Multiply-adds of one refactorisation: for each entry `(i, j)` of U
     /// off the diagonal, the entries of L's column `i` below its diagonal.
@@ -57,6 +56,7 @@ impl Factors {
     }
 
     /// Entries of L and U (diagonals included).
+    #[cfg(test)]
     pub fn entries(&self) -> usize {
         self.l_idx.len() + self.u_idx.len()
     }

@@ -52,6 +52,13 @@ pub(crate) struct Pivots {
     row_perm_inv: Vec<usize>,
 }
 
+impl Pivots {
+    /// The multiply-adds of a refactorisation with these pivots.
+    pub fn updates(&self) -> usize {
+        self.own.updates()
+    }
+}
+
 /// The slots of a [`Pattern`] the factors are computed on: those that may
 /// hold a non-zero. The pattern is structural (whole 6×6 blocks of coupled
 /// parts, a joint equation at all six coordinates of its parts), and most of
@@ -78,7 +85,12 @@ impl Live {
     /// The slots of `full` that `keep` holds; None if the fill-reducing
     /// order cannot be computed.
     pub fn new(full: &Pattern, keep: &[bool]) -> Option<Live> {
-        let pattern = full.restricted(keep)?;
+        Live::ordered(full, keep, true)
+    }
+
+    /// [`Live::new`] with its own fill-reducing order (`reorder`) or `full`'s.
+    pub fn ordered(full: &Pattern, keep: &[bool], reorder: bool) -> Option<Live> {
+        let pattern = full.restricted(keep, reorder)?;
         let from = (0..full.nnz()).filter(|&k| keep[k]).collect();
         let mut dead: Vec<Range<usize>> = Vec::new();
         for k in (0..full.nnz()).filter(|&k| !keep[k]) {
