@@ -35,7 +35,7 @@ impl ConstraintBlock {
     }
 }
 
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(crate) struct Pattern {
     /// Coordinates (6 per moving part) and multipliers.
     n: usize,
@@ -161,37 +161,17 @@ impl Pattern {
         } else {
             (self.order.clone(), self.order_inv.clone())
         };
-        Some(self.with_structure(col_ptr, row_idx, coord_end, order, order_inv))
-    }
-
-    /// A copy of the structure and order (not the seed pivots).
-    pub fn duplicate(&self) -> Pattern {
-        let (c, r, e) = (&self.col_ptr, &self.row_idx, &self.coord_end);
-        let (o, oi) = (self.order.clone(), self.order_inv.clone());
-        self.with_structure(c.clone(), r.clone(), e.clone(), o, oi)
-    }
-
-    fn with_structure(
-        &self,
-        col_ptr: Vec<usize>,
-        row_idx: Vec<usize>,
-        coord_end: Vec<usize>,
-        order: Vec<usize>,
-        order_inv: Vec<usize>,
-    ) -> Pattern {
-        Pattern {
-            n: self.n,
-            m: self.m,
-            parts: self.parts.clone(),
-            of_mult: self.of_mult.clone(),
-            mult_pos: self.mult_pos.clone(),
+        // The parts' lists are the assembly's, kept for a whole pattern's
+        // shape; the seed pivots are this pattern's, not the new one's.
+        Some(Pattern {
+            order,
+            order_inv,
             col_ptr,
             row_idx,
             coord_end,
-            order,
-            order_inv,
             pivots: std::sync::OnceLock::new(),
-        }
+            ..self.clone()
+        })
     }
 
     /// The coordinates (the first rows and columns; the multipliers follow).

@@ -109,7 +109,7 @@ impl Live {
     /// Every slot of `full`.
     pub fn all(full: &Pattern) -> Live {
         Live {
-            pattern: full.duplicate(),
+            pattern: full.clone(),
             from: (0..full.nnz()).collect(),
             dead: Vec::new(),
         }
