@@ -64,12 +64,12 @@ impl Pivots {
 /// parts, a joint equation at all six coordinates of its parts), and most of
 /// it is zero in every matrix: a joint's equation involves three of a part's
 /// six coordinates, and a joint's curvature only its rotations. The seed
-/// pivots' slots ([`super::tangent::seed_pivots`]) are 391 of the 828 on one
-/// McPherson corner, where a refactorisation on them takes 1 744
-/// multiply-adds instead of 4 116 on all, and 2 140 of 4 824 on the car
-/// (15 206 instead of 33 427; `docs/performance.md`). A matrix with a
-/// non-zero outside them (a stop coming into contact) widens them for the
-/// solver that met it ([`SparseLu::factor`]).
+/// pivots' slots ([`super::tangent::seed_pivots`]) are 385 of the 828 on one
+/// McPherson corner, where a refactorisation on them takes 1 736
+/// multiply-adds instead of 4 116 on all, and 1 902 of 4 824 on the car
+/// (10 401 instead of 33 427; `docs/performance.md`). A matrix with an
+/// entry above [`DROP`] outside them (a stop coming into contact) widens
+/// them for the solver that met it ([`SparseLu::factor`]).
 #[derive(Debug)]
 pub(crate) struct Live {
     /// The pattern of the live slots, with its own fill-reducing order.
