@@ -6,9 +6,8 @@
 use super::report::{ANGLE_LIMIT_DEG, AngleWarning, angle_warnings_in};
 use crate::diagnostic::Diagnostic;
 use crate::model::{ElementId, Model};
-use crate::statics::Equilibrium;
-use crate::statics::State;
 use crate::statics::coords::Layout;
+use crate::statics::{Equilibrium, State};
 
 /// Every warning of a path's converged cases (`names[k]` names case `k`):
 /// the angle warnings, then the implausible states.

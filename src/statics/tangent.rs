@@ -82,15 +82,19 @@ pub(crate) fn seed_pivots(p: &super::Problem) {
     let Some(pat) = &p.pattern else { return };
     let mut ws = super::assembly::Workspace::new(p);
     let design = super::coords::State::design(&p.model);
-    let Some(generic) = probe(p, &mut ws, &design) else {
-        return;
-    };
+    // Without the generic state (an element degenerate there), the slots
+    // of the design matrix: later matrices widen them as they need.
+    let generic = probe(p, &mut ws, &design);
     if ws.eval(p, &design, &[], true).is_err() {
         return;
     }
     if let NewtonMatrix::Sparse(_, v) = &ws.a {
-        let (at_design, near) = (Live::significant(v), Live::significant(&generic));
-        let keep: Vec<bool> = at_design.iter().zip(&near).map(|(a, b)| *a || *b).collect();
+        let mut keep = Live::significant(v);
+        if let Some(g) = &generic {
+            keep.iter_mut()
+                .zip(Live::significant(g))
+                .for_each(|(k, s)| *k |= s);
+        }
         // AMD's order of the live slots, or the whole pattern's: whichever
         // refactorises with fewer multiply-adds (AMD's on one McPherson
         // corner and on the car, the whole pattern's on eight coupled
