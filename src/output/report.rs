@@ -5,7 +5,7 @@ use crate::geom::Vec3;
 use crate::kc::{WheelQuantities, wheel_quantities_from};
 use crate::model::{BushingId, ElementId, FrictionId, FrictionMotion, Model, PartId, SpringId};
 use crate::statics::coords::Layout;
-use crate::statics::forces::{bushing, bushing_deformation, spring};
+use crate::statics::forces::{bushing_deformation, bushing_state, spring};
 use crate::statics::friction;
 use crate::statics::{Equilibrium, State, StaticsError};
 use serde::Serialize;
@@ -306,7 +306,7 @@ impl<'m> Reporter<'m> {
             .iter()
             .zip(&self.bushings)
             .map(|(b, name)| {
-                let e = bushing(model, &self.layout, st, b);
+                let e = bushing_state(model, &self.layout, st, b);
                 let a = e.angles.map(f64::to_degrees);
                 let report = BushingReport {
                     deformation: [e.t.x, e.t.y, e.t.z, a.x, a.y, a.z],

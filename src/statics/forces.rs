@@ -74,11 +74,33 @@ fn deformation(mi: &MarkerKin, mj: &MarkerKin) -> (Vec3, Mat3, Vec3) {
     (t, q, projected_angles(&q))
 }
 
-pub fn bushing(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> BushingEval {
+/// A bushing's state without its wrench's derivatives (for reports): the
+/// same deformation, force and torque as [`bushing`]'s.
+pub fn bushing_state(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> BushingState {
     let mi = marker_kin(model, layout, state, b.i);
     let mj = marker_kin(model, layout, state, b.j);
-    let rj = mj.axes;
-    let (t, q, angles) = deformation(&mi, &mj);
+    let (t, _, angles) = deformation(&mi, &mj);
+    let (force, torque, _, _) = laws(b, &t, &angles);
+    BushingState {
+        t,
+        angles,
+        force,
+        torque,
+    }
+}
+
+/// A bushing's deformation, force and torque on I (J axes).
+#[derive(Debug, Clone, Copy)]
+pub struct BushingState {
+    pub t: Vec3,
+    pub angles: Vec3,
+    pub force: Vec3,
+    pub torque: Vec3,
+}
+
+/// Force and torque on I (J axes) of a bushing deformed by `t` and
+/// `angles`, and their stiffnesses (diagonal).
+fn laws(b: &Bushing, t: &Vec3, angles: &Vec3) -> (Vec3, Vec3, Mat3, Mat3) {
     let (t0, a0) = (values(&b.offset), values(&b.angle_offset));
     let (f0, m0) = (values(&b.preload), values(&b.torque_preload));
     let mut force = Vec3::zeros();
@@ -93,6 +115,15 @@ pub fn bushing(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> Bu
         torque[k] = -f + m0[k];
         ka[(k, k)] = s;
     }
+    (force, torque, kt, ka)
+}
+
+pub fn bushing(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> BushingEval {
+    let mi = marker_kin(model, layout, state, b.i);
+    let mj = marker_kin(model, layout, state, b.j);
+    let rj = mj.axes;
+    let (t, q, angles) = deformation(&mi, &mj);
+    let (force, torque, kt, ka) = laws(b, &t, &angles);
     // The force acts at p_I on both parts; on J that point is at rho from J's origin.
     let rho = mi.p - mj.x;
     let mut w = Wrench::new(mi.block, mj.block, mi.r, rho);
