@@ -34,11 +34,12 @@ use std::sync::Arc;
 const PIVOT_THRESHOLD: f64 = 0.0001;
 
 /// An entry outside a factorisation's slots ([`Live`]) no larger than this
-/// fraction of the matrix's largest is left out of it: it is the rounding
-/// of an exact zero (a rotated axis-aligned stiffness's cross term at
-/// 1e-15 N/mm, seen on the car), and leaving it out changes the solution by
-/// far less than the residual check allows (`satisfies`, 1e-8 of the sizes
-/// involved, against this times the number of entries).
+/// fraction of the matrix's largest is left out of it: it is taken for the
+/// rounding of an exact zero (four translation entries of two of the car's
+/// parts, zero at design and near it, read 7e-15 at the curb), and leaving
+/// it out changes the solution by far less than the residual check allows
+/// (`satisfies`, 1e-8 of the sizes involved, against this times the number
+/// of entries).
 const DROP: f64 = 1e-14;
 
 /// A pivot sequence and the factors' structure to start refactorising from
@@ -76,8 +77,8 @@ pub(crate) struct Live {
     pattern: Pattern,
     /// Per slot of `pattern`, the slot of the full pattern it is.
     from: Vec<usize>,
-    /// The full pattern's other slots, as runs of consecutive slots: zero in
-    /// every matrix factorised.
+    /// The full pattern's other slots, as runs of consecutive slots: at
+    /// most [`DROP`] of the largest entry in every matrix factorised.
     dead: Vec<Range<usize>>,
 }
 
