@@ -105,7 +105,6 @@ impl Problem {
         };
         if p.layout.n() + p.kept.len() >= tangent::SPARSE_FROM {
             p.pattern = pattern::Pattern::new(&p).map(std::sync::Arc::new);
-            tangent::seed_pivots(&p);
         }
         p
     }

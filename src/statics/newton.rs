@@ -83,6 +83,10 @@ pub(crate) struct Solver {
 
 impl Solver {
     pub fn new(p: &Problem, st: &State) -> Solver {
+        // The sparse LU's seed pivots, computed by the first solver of the
+        // problem (a problem compiled and never solved, as the direct
+        // identification's, does not pay for them).
+        super::tangent::seed_pivots(p);
         let (n, m) = (p.layout.n(), p.kept.len());
         let ws = Workspace::new(p);
         Solver {

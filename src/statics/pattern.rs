@@ -58,8 +58,9 @@ pub(crate) struct Pattern {
     pub order: Vec<usize>,
     pub order_inv: Vec<usize>,
     /// The pivots every sparse LU of the problem starts from (those of the
-    /// matrix at design, [`super::tangent::seed_pivots`]).
-    pub pivots: std::sync::OnceLock<super::sparse::Pivots>,
+    /// matrix at design, [`super::tangent::seed_pivots`], set by the first
+    /// solver; None: the design matrix could not be factorised).
+    pub pivots: std::sync::OnceLock<Option<super::sparse::Pivots>>,
 }
 
 impl Pattern {

@@ -184,7 +184,7 @@ pub(crate) struct SparseLu {
 impl SparseLu {
     pub fn new(pattern: Arc<Pattern>) -> SparseLu {
         let n = pattern.dim();
-        let start = pattern.pivots.get().cloned();
+        let start = pattern.pivots.get().cloned().flatten();
         // Without seed pivots (their matrix failed), every slot is live.
         let live = match &start {
             Some(pv) => pv.live.clone(),
@@ -836,7 +836,12 @@ mod tests {
             let m = c.model.expect("the example checks");
             let p = Problem::new(&m).expect("problem");
             let pat = p.pattern.clone().expect("the sparse path");
-            let pv = pat.pivots.get().expect("seed pivots");
+            crate::statics::tangent::seed_pivots(&p);
+            let pv = pat
+                .pivots
+                .get()
+                .and_then(Option::as_ref)
+                .expect("seed pivots");
             let (live, all) = pv.live.count();
             let mut whole = SparseLu::starting_with(pat.clone(), Live::all(&pat));
             let mut ws = crate::statics::assembly::Workspace::new(&p);

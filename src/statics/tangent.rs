@@ -75,41 +75,52 @@ impl NewtonMatrix {
 
 /// Factorises the Newton matrix at design (no loads, no multipliers) once,
 /// for the pivots every sparse LU of `p` starts refactorising from: the same
-/// for every solver of the problem, whatever ran before on which thread. The
-/// factors cover the slots of the pattern that are non-zero at design or at a
-/// generic state near it ([`probe`]; [`Live`]).
+/// for every solver of the problem, whatever ran before on which thread (the
+/// first call computes them, concurrent ones wait for it, later ones return
+/// at once). The factors cover the slots of the pattern that are
+/// significant at design or at a generic state near it ([`probe`]; [`Live`]).
 pub(crate) fn seed_pivots(p: &super::Problem) {
-    let Some(pat) = &p.pattern else { return };
+    if let Some(pat) = &p.pattern {
+        pat.pivots.get_or_init(|| seed(p, pat));
+    }
+}
+
+/// The seed pivots of [`seed_pivots`]; None if the design matrix cannot be
+/// evaluated or factorised.
+fn seed(p: &super::Problem, pat: &Arc<Pattern>) -> Option<super::sparse::Pivots> {
     let mut ws = super::assembly::Workspace::new(p);
     let design = super::coords::State::design(&p.model);
     // Without the generic state (an element degenerate there), the slots
     // of the design matrix: later matrices widen them as they need.
     let generic = probe(p, &mut ws, &design);
-    if ws.eval(p, &design, &[], true).is_err() {
-        return;
+    ws.eval(p, &design, &[], true).ok()?;
+    let NewtonMatrix::Sparse(_, v) = &ws.a else {
+        return None;
+    };
+    let mut keep = Live::significant(v);
+    if let Some(g) = &generic {
+        keep.iter_mut()
+            .zip(Live::significant(g))
+            .for_each(|(k, s)| *k |= s);
     }
-    if let NewtonMatrix::Sparse(_, v) = &ws.a {
-        let mut keep = Live::significant(v);
-        if let Some(g) = &generic {
-            keep.iter_mut()
-                .zip(Live::significant(g))
-                .for_each(|(k, s)| *k |= s);
-        }
-        // AMD's order of the live slots, or the whole pattern's: whichever
-        // refactorises with fewer multiply-adds (AMD's on one McPherson
-        // corner and on the car, the whole pattern's on eight coupled
-        // corners: 24 856 against 27 079).
-        let seed = |reorder: bool| {
-            let mut lu = SparseLu::starting_with(pat.clone(), Live::ordered(pat, &keep, reorder)?);
-            if lu.factor(v) { lu.pivots() } else { None }
-        };
-        let best = match (seed(true), seed(false)) {
-            (Some(a), Some(b)) => Some(if b.updates() < a.updates() { b } else { a }),
-            (a, b) => a.or(b),
-        };
-        if let Some(pv) = best {
-            let _ = pat.pivots.set(pv);
-        }
+    // AMD's order of the live slots, or the whole pattern's: whichever
+    // refactorises with fewer multiply-adds (AMD's on the car, the whole
+    // pattern's on two and eight coupled corners: 4 753 against 4 907,
+    // 24 856 against 27 079). On one McPherson corner they tie (1 736 and
+    // 1 742), so below `2 * SPARSE_FROM` unknowns AMD's is taken without
+    // the second fresh factorisation.
+    let seed = |reorder: bool| {
+        let mut lu = SparseLu::starting_with(pat.clone(), Live::ordered(pat, &keep, reorder)?);
+        if lu.factor(v) { lu.pivots() } else { None }
+    };
+    let other = || {
+        (pat.dim() >= 2 * SPARSE_FROM)
+            .then(|| seed(false))
+            .flatten()
+    };
+    match (seed(true), other()) {
+        (Some(a), Some(b)) => Some(if b.updates() < a.updates() { b } else { a }),
+        (a, b) => a.or(b),
     }
 }
 
