@@ -109,16 +109,16 @@ fn seed(p: &super::Problem, pat: &Arc<Pattern>) -> Option<super::sparse::Pivots>
     // 24 856 against 27 079). On one McPherson corner they tie (1 736 and
     // 1 742), so below `2 * SPARSE_FROM` unknowns AMD's is taken without
     // the second fresh factorisation.
-    let seed = |reorder: bool| {
+    let factored = |reorder: bool| {
         let mut lu = SparseLu::starting_with(pat.clone(), Live::ordered(pat, &keep, reorder)?);
         if lu.factor(v) { lu.pivots() } else { None }
     };
     let other = || {
         (pat.dim() >= 2 * SPARSE_FROM)
-            .then(|| seed(false))
+            .then(|| factored(false))
             .flatten()
     };
-    match (seed(true), other()) {
+    match (factored(true), other()) {
         (Some(a), Some(b)) => Some(if b.updates() < a.updates() { b } else { a }),
         (a, b) => a.or(b),
     }
