@@ -9,7 +9,7 @@ use crate::diagnostic::Diagnostic;
 use crate::model::{BushingId, ElementId, Model, WheelId};
 use crate::statics::State;
 use crate::statics::coords::Layout;
-use crate::statics::forces::bushing_deformation;
+use crate::statics::forces::bushing_state;
 use std::collections::BTreeMap;
 
 /// Translational deformation (mm) beyond which a bushing is implausible:
@@ -50,7 +50,7 @@ impl Finding {
 pub fn findings(model: &Model, layout: &Layout, design: &State, state: &State) -> Vec<Finding> {
     let mut out = Vec::new();
     for (k, b) in model.bushings.iter().enumerate() {
-        let mm = bushing_deformation(model, layout, state, b).0.norm();
+        let mm = bushing_state(model, layout, state, b).t.norm();
         if mm > BUSHING_DEFORMATION_LIMIT_MM {
             out.push(Finding::BushingDeformed {
                 bushing: BushingId(k as u32),

@@ -5,7 +5,7 @@ use crate::geom::Vec3;
 use crate::kc::{WheelQuantities, wheel_quantities_from};
 use crate::model::{BushingId, ElementId, FrictionId, FrictionMotion, Model, PartId, SpringId};
 use crate::statics::coords::Layout;
-use crate::statics::forces::{bushing_deformation, bushing_state, spring};
+use crate::statics::forces::{bushing_state, spring};
 use crate::statics::friction;
 use crate::statics::{Equilibrium, State, StaticsError};
 use serde::Serialize;
@@ -405,7 +405,7 @@ pub fn angle_warnings(model: &Model, state: &State) -> Vec<AngleWarning> {
 pub fn angle_warnings_in(model: &Model, layout: &Layout, state: &State) -> Vec<AngleWarning> {
     let mut out = Vec::new();
     for (k, b) in model.bushings.iter().enumerate() {
-        let (_, angles) = bushing_deformation(model, layout, state, b);
+        let angles = bushing_state(model, layout, state, b).angles;
         // Only the tilts: ax and ay read the direction of z_I alone, and the
         // projections are exact for a rotation about z_J (az = the angle), so
         // torsion about the bushing's own axis, however large, is no reason

@@ -51,21 +51,6 @@ pub(super) fn angle_rates(q: &Mat3) -> Mat3 {
     Mat3::from_rows(&[ax, ay, az])
 }
 
-/// A bushing's deformation alone, as [`bushing`] computes it: `t = R_J^T
-/// (p_I - p_J)` (mm) and the projected angles of `R_J^T R_I` (rad), without
-/// its forces and derivatives (for the warnings of a path's cases).
-pub fn bushing_deformation(
-    model: &Model,
-    layout: &Layout,
-    state: &State,
-    b: &Bushing,
-) -> (Vec3, Vec3) {
-    let mi = marker_kin(model, layout, state, b.i);
-    let mj = marker_kin(model, layout, state, b.j);
-    let (t, _, angles) = deformation(&mi, &mj);
-    (t, angles)
-}
-
 /// `t`, the relative rotation `Q = R_J^T R_I` and its projected angles.
 fn deformation(mi: &MarkerKin, mj: &MarkerKin) -> (Vec3, Mat3, Vec3) {
     let rj = mj.axes;
@@ -74,8 +59,8 @@ fn deformation(mi: &MarkerKin, mj: &MarkerKin) -> (Vec3, Mat3, Vec3) {
     (t, q, projected_angles(&q))
 }
 
-/// A bushing's state without its wrench's derivatives (for reports): the
-/// same deformation, force and torque as [`bushing`]'s.
+/// A bushing's state without its wrench's derivatives (for reports and
+/// warnings): the same deformation, force and torque as [`bushing`]'s.
 pub fn bushing_state(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> BushingState {
     let mi = marker_kin(model, layout, state, b.i);
     let mj = marker_kin(model, layout, state, b.j);

@@ -20,6 +20,7 @@ mod extrapolation;
 pub mod forces;
 pub mod friction;
 mod linear;
+mod live;
 pub mod mobility;
 pub mod newton;
 pub mod path;

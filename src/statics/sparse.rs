@@ -16,10 +16,10 @@
 //! left in its column; otherwise it is factorised afresh with new pivots.
 
 use super::condition::{BlockSizes, Scale, largest};
+use super::live::Live;
 use super::pattern::Pattern;
 use super::pivoting::{self, Factors};
 use std::cell::Cell;
-use std::ops::Range;
 use std::sync::Arc;
 
 /// A reused pivot must be at least this fraction of the largest candidate in
@@ -32,15 +32,6 @@ use std::sync::Arc;
 /// factorisations needed fresh ones with 0.001 and none with 0.0001, and each
 /// fresh one costs about six refactorisations.
 const PIVOT_THRESHOLD: f64 = 0.0001;
-
-/// An entry outside a factorisation's slots ([`Live`]) no larger than this
-/// fraction of the matrix's largest is left out of it: it is taken for the
-/// rounding of an exact zero (four translation entries of two of the car's
-/// parts, zero at design and near it, read 7e-15 at the curb), and leaving
-/// it out changes the solution by far less than the residual check allows
-/// (`satisfies`, 1e-8 of the sizes involved, against this times the number
-/// of entries).
-const DROP: f64 = 1e-14;
 
 /// A pivot sequence and the factors' structure to start refactorising from
 /// (kept in the [`Pattern`], so that every solver of the problem starts
@@ -57,92 +48,6 @@ impl Pivots {
     /// The multiply-adds of a refactorisation with these pivots.
     pub fn updates(&self) -> usize {
         self.own.updates()
-    }
-}
-
-/// The slots of a [`Pattern`] the factors are computed on: those that may
-/// hold a non-zero. The pattern is structural (whole 6×6 blocks of coupled
-/// parts, a joint equation at all six coordinates of its parts), and most of
-/// it is zero in every matrix: a joint's equation involves three of a part's
-/// six coordinates, and a joint's curvature only its rotations. The seed
-/// pivots' slots ([`super::tangent::seed_pivots`]) are 385 of the 828 on one
-/// McPherson corner, where a refactorisation on them takes 1 736
-/// multiply-adds instead of 4 116 on all, and 1 902 of 4 824 on the car
-/// (10 401 instead of 33 427; `docs/performance.md`). A matrix with an
-/// entry above [`DROP`] outside them (a stop coming into contact) widens
-/// them for the solver that met it ([`SparseLu::factor`]).
-#[derive(Debug)]
-pub(crate) struct Live {
-    /// The pattern of the live slots, with its own fill-reducing order.
-    pattern: Pattern,
-    /// Per slot of `pattern`, the slot of the full pattern it is.
-    from: Vec<usize>,
-    /// The full pattern's other slots, as runs of consecutive slots: at
-    /// most [`DROP`] of the largest entry in every matrix factorised.
-    dead: Vec<Range<usize>>,
-}
-
-impl Live {
-    /// The slots of `full` that `keep` holds; None if the fill-reducing
-    /// order cannot be computed.
-    pub fn new(full: &Pattern, keep: &[bool]) -> Option<Live> {
-        Live::ordered(full, keep, true)
-    }
-
-    /// [`Live::new`] with its own fill-reducing order (`reorder`) or `full`'s.
-    pub fn ordered(full: &Pattern, keep: &[bool], reorder: bool) -> Option<Live> {
-        let pattern = full.restricted(keep, reorder)?;
-        let from = (0..full.nnz()).filter(|&k| keep[k]).collect();
-        let mut dead: Vec<Range<usize>> = Vec::new();
-        for k in (0..full.nnz()).filter(|&k| !keep[k]) {
-            match dead.last_mut() {
-                Some(r) if r.end == k => r.end += 1,
-                _ => dead.push(k..k + 1),
-            }
-        }
-        Some(Live {
-            pattern,
-            from,
-            dead,
-        })
-    }
-
-    /// Every slot of `full`.
-    pub fn all(full: &Pattern) -> Live {
-        Live {
-            pattern: full.clone(),
-            from: (0..full.nnz()).collect(),
-            dead: Vec::new(),
-        }
-    }
-
-    /// The slots of `values` (a matrix in a pattern's slots) above [`DROP`]
-    /// times its largest entry (and those not a number).
-    pub fn significant(values: &[f64]) -> Vec<bool> {
-        let tol = DROP * largest(values);
-        values.iter().map(|v| v.abs() > tol || v.is_nan()).collect()
-    }
-
-    /// Whether every entry of `values` (in the full pattern's slots) outside
-    /// these slots is at most `tol` (and a number).
-    fn holds(&self, values: &[f64], tol: f64) -> bool {
-        self.dead
-            .iter()
-            .all(|r| values[r.clone()].iter().all(|v| v.abs() <= tol))
-    }
-
-    /// These slots and the [`significant`](Self::significant) ones of `values`.
-    fn widened(&self, full: &Pattern, values: &[f64]) -> Option<Live> {
-        let mut keep = Live::significant(values);
-        self.from.iter().for_each(|&k| keep[k] = true);
-        Live::new(full, &keep)
-    }
-
-    /// The slots kept, of how many.
-    #[cfg(test)]
-    pub fn count(&self) -> (usize, usize) {
-        let dead: usize = self.dead.iter().map(|r| r.len()).sum();
-        (self.from.len(), self.from.len() + dead)
     }
 }
 
@@ -263,7 +168,7 @@ impl SparseLu {
         self.a.copy_from_slice(values);
         self.a_max = largest(values);
         self.scale.set(None);
-        if !self.live.holds(values, DROP * self.a_max) {
+        if !self.live.holds(values, self.a_max) {
             let Some(live) = self.live.widened(&self.pattern, values) else {
                 return false;
             };
@@ -865,7 +770,7 @@ mod tests {
                 let crate::statics::tangent::NewtonMatrix::Sparse(_, v) = &ws.a else {
                     panic!("sparse storage")
                 };
-                assert!(pv.live.holds(v, DROP * largest(v)), "{file}");
+                assert!(pv.live.holds(v, largest(v)), "{file}");
             }
         }
     }

@@ -6,8 +6,9 @@
 
 use super::condition::Scale;
 use super::linear::Lu;
+use super::live::Live;
 use super::pattern::Pattern;
-use super::sparse::{Live, SparseLu};
+use super::sparse::SparseLu;
 use faer::Mat;
 use nalgebra::DMatrix;
 use std::sync::Arc;
