@@ -7,8 +7,8 @@
 //! Newton matrix needs. So one [`Wrench`] gives both.
 
 use super::coords::{Layout, MarkerKin, State, marker_kin};
-use super::wrench::{Wrench, blocks, d_axis_j, d_point_i};
-use crate::geom::{Mat3, Vec3, skew};
+use super::wrench::{Blocks, RhoMotion, Wrench};
+use crate::geom::{Vec3, skew};
 use crate::model::{JointId, Model, Primitive};
 
 /// One scalar constraint equation of a joint.
@@ -83,14 +83,9 @@ pub fn evaluate_into(mi: &MarkerKin, mj: &MarkerKin, primitive: Primitive, w: &m
             let rho = mi.p - mj.x;
             w.reset(mi.block, mj.block, mi.r, rho);
             w.g = a;
-            w.dg = d_axis_j(&a);
-            w.drho = d_point_i(&mi.r)
-                - blocks([
-                    Mat3::zeros(),
-                    Mat3::zeros(),
-                    Mat3::identity(),
-                    Mat3::zeros(),
-                ]);
+            // d_axis_j(a) = [0, 0, 0, -a~].
+            w.dg = Blocks::new([None, None, None, Some(-skew(&a))]);
+            w.rho_motion = RhoMotion::PointOfI;
             a.dot(&d)
         }
         Primitive::Perpendicular(pa, pb) => {
@@ -99,11 +94,11 @@ pub fn evaluate_into(mi: &MarkerKin, mj: &MarkerKin, primitive: Primitive, w: &m
             w.reset(mi.block, mj.block, mi.r, mj.r);
             w.m = a.cross(&b);
             // d(a × b) = (theta_I × a) × b + a × (theta_J × b).
-            w.dm = blocks([
-                Mat3::zeros(),
-                skew(&b) * skew(&a),
-                Mat3::zeros(),
-                -skew(&a) * skew(&b),
+            w.dm = Blocks::new([
+                None,
+                Some(skew(&b) * skew(&a)),
+                None,
+                Some(-skew(&a) * skew(&b)),
             ]);
             a.dot(&b)
         }

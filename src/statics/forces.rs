@@ -5,7 +5,7 @@
 
 use super::coords::{Layout, MarkerKin, State, marker_kin};
 use super::error::{StaticsError, StaticsErrorKind};
-use super::wrench::{Wrench, blocks, d_point_i, d_point_j};
+use super::wrench::{Blocks, RhoMotion, Wrench, d_point_i, d_point_j};
 use crate::geom::{Mat3, Vec3, projected_angles, skew};
 use crate::model::{
     Bushing, BushingId, ElementId, FrictionId, Model, PointLoad, Spring, SpringId, SpringLaw, Stop,
@@ -25,8 +25,6 @@ pub struct BushingEval {
     pub torque: Vec3,
     pub wrench: Wrench,
 }
-
-const ZERO: Mat3 = Mat3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
 
 /// Rows `d(angle)/dw` of the projected angles for a relative rotation increment
 /// `w` in J axes, with `dQ = w~ Q`. A row is zero where its atan2 is undefined.
@@ -112,13 +110,8 @@ pub fn bushing(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> Bu
     // The force acts at p_I on both parts; on J that point is at rho from J's origin.
     let rho = mi.p - mj.x;
     let mut w = Wrench::new(mi.block, mj.block, mi.r, rho);
-    // drho = d_point_i(r_I) - [0, 0, I, 0] = [I, -r_I~, 0 - I, 0].
-    w.drho = blocks([
-        Mat3::identity(),
-        -skew(&mi.r),
-        ZERO - Mat3::identity(),
-        ZERO,
-    ]);
+    // drho = d_point_i(r_I) - [0, 0, I, 0] = [I, -r_I~, -I, 0].
+    w.rho_motion = RhoMotion::PointOfI;
     w.g = rj * force;
     w.m = rj * torque;
     // Block by block (a product with a 3×12 matrix of identity and zero
@@ -132,13 +125,18 @@ pub fn bushing(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> Bu
     let dt = [rt, rt * -skew(&mi.r), -rt, rt * skew(&rho)];
     let ra = angle_rates(&q) * rt;
     let (pt, pa) = (rj * kt, rj * ka);
-    w.dg = blocks([
-        -(pt * dt[0]),
-        -(pt * dt[1]),
-        -(pt * dt[2]),
-        -skew(&w.g) - pt * dt[3],
+    w.dg = Blocks::new([
+        Some(-(pt * dt[0])),
+        Some(-(pt * dt[1])),
+        Some(-(pt * dt[2])),
+        Some(-skew(&w.g) - pt * dt[3]),
     ]);
-    w.dm = blocks([ZERO, -(pa * ra), ZERO, -skew(&w.m) + pa * ra]);
+    w.dm = Blocks::new([
+        None,
+        Some(-(pa * ra)),
+        None,
+        Some(-skew(&w.m) + pa * ra),
+    ]);
     BushingEval {
         t,
         angles,
@@ -171,7 +169,7 @@ fn along(
     w.g = u * f;
     let uu = u * u.transpose();
     let dd = d_point_i(&mi.r) - d_point_j(&mj.r);
-    w.dg = (uu * df + (Mat3::identity() - uu) * (f / l)) * dd;
+    w.dg = Blocks::of_matrix(&((uu * df + (Mat3::identity() - uu) * (f / l)) * dd));
     Some((l, f, w))
 }
 

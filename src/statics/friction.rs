@@ -11,7 +11,7 @@
 
 use super::coords::{Layout, MarkerKin, State, marker_kin};
 use super::forces::angle_rates;
-use super::wrench::{M3x12, Wrench, blocks, d_axis_j, d_point_i, d_point_j};
+use super::wrench::{Blocks, M3x12, RhoMotion, Wrench, blocks, d_axis_j, d_point_i, d_point_j};
 use crate::geom::{Mat3, Vec3, skew};
 use crate::model::{Friction, FrictionId, FrictionMotion, Marker, Model};
 
@@ -118,7 +118,7 @@ pub fn evaluate(model: &Model, layout: &Layout, state: &State, id: FrictionId) -
             // The force acts at p_I on both parts, as a bushing's.
             let rho = mi.p - mj.x;
             let mut w = Wrench::new(mi.block, mj.block, mi.r, rho);
-            w.drho = d_point_i(&mi.r) - blocks([ZERO, ZERO, Mat3::identity(), ZERO]);
+            w.rho_motion = RhoMotion::PointOfI;
             (d.dot(&z), ds, w)
         }
         FrictionMotion::Rotation => {
@@ -135,11 +135,11 @@ pub fn evaluate(model: &Model, layout: &Layout, state: &State, id: FrictionId) -
     match f.motion {
         FrictionMotion::Slide => {
             w.g = z * force;
-            w.dg = z * (rate * dforce) + dz * force;
+            w.dg = Blocks::of_matrix(&(z * (rate * dforce) + dz * force));
         }
         FrictionMotion::Rotation => {
             w.m = z * force;
-            w.dm = -skew(&w.m) * turn_j + z * (rate * dforce);
+            w.dm = Blocks::of_matrix(&(-skew(&w.m) * turn_j + z * (rate * dforce)));
         }
     }
     let utilisation = if limit > 0.0 {

@@ -39,6 +39,93 @@ pub fn d_axis_j(a: &Vec3) -> M3x12 {
     blocks([Mat3::zeros(), Mat3::zeros(), Mat3::zeros(), -skew(a)])
 }
 
+/// A 3×12 derivative `[dx_I, theta_I, dx_J, theta_J]` as its four 3×3
+/// blocks, each present or identically zero. Most of an element's blocks
+/// are zero by its kind (a joint's unit reaction has at most two, a point
+/// load none), so neither its storage nor the tangent's assembly touches
+/// them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Blocks {
+    b: [Mat3; 4],
+    present: [bool; 4],
+}
+
+impl Default for Blocks {
+    fn default() -> Blocks {
+        Blocks {
+            b: [Mat3::zeros(); 4],
+            present: [false; 4],
+        }
+    }
+}
+
+impl Blocks {
+    /// The blocks given, the others zero.
+    pub fn new(b: [Option<Mat3>; 4]) -> Blocks {
+        let mut out = Blocks::default();
+        for (k, blk) in b.into_iter().enumerate() {
+            if let Some(m) = blk {
+                out.b[k] = m;
+                out.present[k] = true;
+            }
+        }
+        out
+    }
+
+    /// The blocks of a 3×12 matrix, those with a non-zero entry present.
+    pub fn of_matrix(m: &M3x12) -> Blocks {
+        Blocks::new(std::array::from_fn(|k| nonzero_block(m, 3 * k)))
+    }
+
+    /// The 3×12 matrix.
+    pub fn matrix(&self) -> M3x12 {
+        let mut m = M3x12::zeros();
+        for k in 0..4 {
+            if self.present[k] {
+                m.fixed_view_mut::<3, 3>(0, 3 * k).copy_from(&self.b[k]);
+            }
+        }
+        m
+    }
+
+    /// Block `k` (columns `3k..3k + 3`), unless all its entries are zero.
+    pub fn get(&self, k: usize) -> Option<&Mat3> {
+        (self.present[k] && self.b[k].iter().any(|v| *v != 0.0)).then_some(&self.b[k])
+    }
+
+    /// `self *= s`.
+    pub fn scale(&mut self, s: f64) {
+        for k in 0..4 {
+            if self.present[k] {
+                self.b[k] *= s;
+            }
+        }
+    }
+
+    /// `self += o * s`.
+    pub fn add_scaled(&mut self, o: &Blocks, s: f64) {
+        for k in 0..4 {
+            if o.present[k] {
+                if !self.present[k] {
+                    self.b[k] = Mat3::zeros();
+                    self.present[k] = true;
+                }
+                self.b[k] += o.b[k] * s;
+            }
+        }
+    }
+}
+
+/// How the arm `rho` of the force on J moves with the increments.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RhoMotion {
+    /// A point of J: `[0, 0, 0, -rho~]`.
+    TurnsWithJ,
+    /// The point of I at the arm `r_i`, seen from J's origin:
+    /// `[I, -r_i~, -I, 0]` (a force acting at `p_I` on both parts).
+    PointOfI,
+}
+
 #[derive(Debug, Clone)]
 pub struct Wrench {
     /// Coordinate blocks of parts I and J (None: ground).
@@ -48,34 +135,26 @@ pub struct Wrench {
     pub g: Vec3,
     /// Torque on I (global); J receives `-m`.
     pub m: Vec3,
-    /// Arm of the force on I from I's origin, and of the force on J from J's origin.
+    /// Arm of the force on I from I's origin (a point of I, turning with
+    /// it: its derivative is `[0, -r_i~, 0, 0]`), and of the force on J
+    /// from J's origin.
     pub r_i: Vec3,
     pub rho: Vec3,
-    pub dg: M3x12,
-    pub dm: M3x12,
-    /// Derivatives of the arms as points moving with their parts.
-    pub dr_i: M3x12,
-    pub drho: M3x12,
-}
-
-/// `[.., -r~, ..]`: the derivative of an arm `r` turning with the rotation
-/// increment at columns `c..c + 3` (written in place: one is built per wrench).
-fn arm_turning(c: usize, r: &Vec3) -> M3x12 {
-    let mut m = M3x12::zeros();
-    m.fixed_view_mut::<3, 3>(0, c).copy_from(&-skew(r));
-    m
-}
-
-/// [`arm_turning`] written over `m`.
-fn set_arm_turning(m: &mut M3x12, c: usize, r: &Vec3) {
-    m.fill(0.0);
-    m.fixed_view_mut::<3, 3>(0, c).copy_from(&-skew(r));
+    pub dg: Blocks,
+    pub dm: Blocks,
+    pub rho_motion: RhoMotion,
 }
 
 /// The 3×3 block of `m` at columns `c..c + 3`, unless all its entries are zero.
 fn nonzero_block(m: &M3x12, c: usize) -> Option<Mat3> {
     let b: Mat3 = m.fixed_view::<3, 3>(0, c).into_owned();
     b.iter().any(|v| *v != 0.0).then_some(b)
+}
+
+/// `-r~`, unless `r` is zero (the derivative block of an arm `r` turning
+/// with its part).
+fn turning(r: &Vec3) -> Option<Mat3> {
+    (*r != Vec3::zeros()).then(|| -skew(r))
 }
 
 impl Wrench {
@@ -88,16 +167,14 @@ impl Wrench {
             m: Vec3::zeros(),
             r_i,
             rho,
-            dg: M3x12::zeros(),
-            dm: M3x12::zeros(),
-            dr_i: arm_turning(3, &r_i),
-            drho: arm_turning(9, &rho),
+            dg: Blocks::default(),
+            dm: Blocks::default(),
+            rho_motion: RhoMotion::TurnsWithJ,
         }
     }
 
-    /// Makes this wrench [`Wrench::new`]'s, in place (a wrench is over a
-    /// kilobyte: the assembly refills one per joint equation rather than
-    /// moving a new one).
+    /// Makes this wrench [`Wrench::new`]'s, in place (the assembly refills
+    /// one per joint equation rather than moving a new one).
     pub fn reset(&mut self, i: Option<usize>, j: Option<usize>, r_i: Vec3, rho: Vec3) {
         self.i = i;
         self.j = j;
@@ -105,10 +182,39 @@ impl Wrench {
         self.m = Vec3::zeros();
         self.r_i = r_i;
         self.rho = rho;
-        self.dg.fill(0.0);
-        self.dm.fill(0.0);
-        set_arm_turning(&mut self.dr_i, 3, &r_i);
-        set_arm_turning(&mut self.drho, 9, &rho);
+        self.dg.present = [false; 4];
+        self.dm.present = [false; 4];
+        self.rho_motion = RhoMotion::TurnsWithJ;
+    }
+
+    /// Block `k` of the derivative of the arm `r_i`, unless zero.
+    fn dr_i_block(&self, k: usize) -> Option<Mat3> {
+        if k == 1 { turning(&self.r_i) } else { None }
+    }
+
+    /// Block `k` of the derivative of the arm `rho`, unless zero.
+    fn drho_block(&self, k: usize) -> Option<Mat3> {
+        match (self.rho_motion, k) {
+            (RhoMotion::TurnsWithJ, 3) => turning(&self.rho),
+            (RhoMotion::PointOfI, 0) => Some(Mat3::identity()),
+            (RhoMotion::PointOfI, 1) => turning(&self.r_i),
+            (RhoMotion::PointOfI, 2) => Some(-Mat3::identity()),
+            _ => None,
+        }
+    }
+
+    /// The derivatives of the two arms as 3×12 matrices.
+    fn arm_derivatives(&self) -> (M3x12, M3x12) {
+        let full = |f: &dyn Fn(usize) -> Option<Mat3>| {
+            let mut m = M3x12::zeros();
+            for k in 0..4 {
+                if let Some(b) = f(k) {
+                    m.fixed_view_mut::<3, 3>(0, 3 * k).copy_from(&b);
+                }
+            }
+            m
+        };
+        (full(&|k| self.dr_i_block(k)), full(&|k| self.drho_block(k)))
     }
 
     /// The generalised force on `[I; J]`.
@@ -126,11 +232,13 @@ impl Wrench {
     /// The derivative of [`Self::generalized`] with respect to the 12 local increments.
     pub fn tangent(&self) -> M12 {
         let gs = skew(&self.g);
+        let (dg, dm) = (self.dg.matrix(), self.dm.matrix());
+        let (dr_i, drho) = self.arm_derivatives();
         let rows = [
-            self.dg,
-            -gs * self.dr_i + skew(&self.r_i) * self.dg + self.dm,
-            -self.dg,
-            gs * self.drho - skew(&self.rho) * self.dg - self.dm,
+            dg,
+            -gs * dr_i + skew(&self.r_i) * dg + dm,
+            -dg,
+            gs * drho - skew(&self.rho) * dg - dm,
         ];
         let mut k = M12::zeros();
         for (b, r) in rows.iter().enumerate() {
@@ -144,19 +252,25 @@ impl Wrench {
     pub fn scale_loads(&mut self, s: f64) {
         self.g *= s;
         self.m *= s;
-        self.dg *= s;
-        self.dm *= s;
+        self.dg.scale(s);
+        self.dm.scale(s);
     }
 
     /// Adds `s` times `w`'s forces, torques and their derivatives; the arms
     /// stay, so the sum's generalised force and tangent are the sums of the
     /// two wrenches' only when `w` has the same parts and arms.
     pub fn add_loads(&mut self, w: &Wrench, s: f64) {
-        debug_assert!(self.i == w.i && self.j == w.j && self.r_i == w.r_i && self.rho == w.rho);
+        debug_assert!(
+            self.i == w.i
+                && self.j == w.j
+                && self.r_i == w.r_i
+                && self.rho == w.rho
+                && self.rho_motion == w.rho_motion
+        );
         self.g += w.g * s;
         self.m += w.m * s;
-        self.dg += w.dg * s;
-        self.dm += w.dm * s;
+        self.dg.add_scaled(&w.dg, s);
+        self.dm.add_scaled(&w.dm, s);
     }
 
     /// Global coordinate offset of each 6-block of the local order.
@@ -194,44 +308,44 @@ impl Wrench {
         for (sc, co) in offs.iter().enumerate() {
             let Some(co) = *co else { continue };
             for half in 0..2 {
-                let c = 6 * sc + 3 * half;
-                let dg = nonzero_block(&self.dg, c);
-                let dm = nonzero_block(&self.dm, c);
+                let k = 2 * sc + half;
+                let dg = self.dg.get(k);
+                let dm = self.dm.get(k);
                 let col = co + 3 * half;
                 // Rows of I: [dg; -g~ dr_i + r_i~ dg + dm]; of J: [-dg; g~ drho - rho~ dg - dm].
                 if let Some(ro) = offs[0] {
-                    if let Some(dg) = &dg {
+                    if let Some(dg) = dg {
                         f(ro, col, dg);
                     }
-                    let dr = nonzero_block(&self.dr_i, c);
+                    let dr = self.dr_i_block(k);
                     if dr.is_some() || dg.is_some() || dm.is_some() {
                         let mut b = Mat3::zeros();
                         if let Some(dr) = &dr {
                             b = -gs * dr;
                         }
-                        if let Some(dg) = &dg {
+                        if let Some(dg) = dg {
                             b += ri * dg;
                         }
-                        if let Some(dm) = &dm {
+                        if let Some(dm) = dm {
                             b += dm;
                         }
                         f(ro + 3, col, &b);
                     }
                 }
                 if let Some(ro) = offs[1] {
-                    if let Some(dg) = &dg {
+                    if let Some(dg) = dg {
                         f(ro, col, &(-dg));
                     }
-                    let dr = nonzero_block(&self.drho, c);
+                    let dr = self.drho_block(k);
                     if dr.is_some() || dg.is_some() || dm.is_some() {
                         let mut b = Mat3::zeros();
                         if let Some(dr) = &dr {
                             b = gs * dr;
                         }
-                        if let Some(dg) = &dg {
+                        if let Some(dg) = dg {
                             b -= rho * dg;
                         }
-                        if let Some(dm) = &dm {
+                        if let Some(dm) = dm {
                             b -= dm;
                         }
                         f(ro + 3, col, &b);
@@ -288,7 +402,12 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
         };
-        for (i, j) in [(Some(0), Some(2)), (Some(1), None), (None, Some(0))] {
+        for (i, j, motion) in [
+            (Some(0), Some(2), RhoMotion::PointOfI),
+            (Some(0), Some(2), RhoMotion::TurnsWithJ),
+            (Some(1), None, RhoMotion::TurnsWithJ),
+            (None, Some(0), RhoMotion::PointOfI),
+        ] {
             let mut w = Wrench::new(
                 i,
                 j,
@@ -297,9 +416,10 @@ mod tests {
             );
             w.g = Vec3::new(rnd(), rnd(), rnd());
             w.m = Vec3::new(rnd(), rnd(), rnd());
-            w.dg = M3x12::from_fn(|_, _| rnd());
-            w.dm = M3x12::from_fn(|_, _| rnd());
-            w.drho = M3x12::from_fn(|_, _| rnd());
+            w.dg = Blocks::of_matrix(&M3x12::from_fn(|_, _| rnd()));
+            // Some blocks absent, as in a joint's unit reaction.
+            w.dm = Blocks::new([None, Some(Mat3::from_fn(|_, _| rnd())), None, None]);
+            w.rho_motion = motion;
             let full = w.tangent();
             let mut got = DMatrix::zeros(18, 18);
             w.each_tangent(|r, c, b| {
