@@ -189,8 +189,10 @@ impl Workspace {
                 add(&w, 1.0, r, a, tangent, scale, &mut inside);
             }
         }
-        // A joint's equations are consecutive and share its marker frames.
-        let mut frames: Option<(JointId, MarkerKin, MarkerKin)> = None;
+        // A joint's equations are consecutive and share its marker frames
+        // (computed once a joint, and borrowed, not copied, by each).
+        let mut joint: Option<JointId> = None;
+        let (mut mi, mut mj) = (MarkerKin::default(), MarkerKin::default());
         let mut w = Wrench::new(None, None, Vec3::zeros(), Vec3::zeros());
         // The λ-weighted sum of the unit reactions of consecutive equations
         // of one joint whose wrenches share their arms (see `Arms`), whose
@@ -203,14 +205,10 @@ impl Workspace {
         for (idx, &e) in p.kept.iter().enumerate() {
             let lam = st.lambda.get(idx).copied().unwrap_or(0.0);
             let eq = &p.equations[e];
-            let (mi, mj) = match frames {
-                Some((j, mi, mj)) if j == eq.joint => (mi, mj),
-                _ => {
-                    let (mi, mj) = joint_markers(&p.model, &p.layout, st, eq.joint);
-                    frames = Some((eq.joint, mi, mj));
-                    (mi, mj)
-                }
-            };
+            if joint != Some(eq.joint) {
+                (mi, mj) = joint_markers(&p.model, &p.layout, st, eq.joint);
+                joint = Some(eq.joint);
+            }
             let v = evaluate_into(&mi, &mj, eq.primitive, &mut w);
             // The gradient row with rotation columns times the length, as in
             // `redundancy::scaled_jacobian` (at most 12 entries), and the

@@ -7,7 +7,7 @@
 //! Newton matrix needs. So one [`Wrench`] gives both.
 
 use super::coords::{Layout, MarkerKin, State, marker_kin};
-use super::wrench::{Blocks, RhoMotion, Wrench};
+use super::wrench::{RhoMotion, Wrench};
 use crate::geom::{Vec3, skew};
 use crate::model::{JointId, Model, Primitive};
 
@@ -84,7 +84,7 @@ pub fn evaluate_into(mi: &MarkerKin, mj: &MarkerKin, primitive: Primitive, w: &m
             w.reset(mi.block, mj.block, mi.r, rho);
             w.g = a;
             // d_axis_j(a) = [0, 0, 0, -a~].
-            w.dg = Blocks::new([None, None, None, Some(-skew(&a))]);
+            w.dg.set(3, -skew(&a));
             w.rho_motion = RhoMotion::PointOfI;
             a.dot(&d)
         }
@@ -94,12 +94,8 @@ pub fn evaluate_into(mi: &MarkerKin, mj: &MarkerKin, primitive: Primitive, w: &m
             w.reset(mi.block, mj.block, mi.r, mj.r);
             w.m = a.cross(&b);
             // d(a × b) = (theta_I × a) × b + a × (theta_J × b).
-            w.dm = Blocks::new([
-                None,
-                Some(skew(&b) * skew(&a)),
-                None,
-                Some(-skew(&a) * skew(&b)),
-            ]);
+            w.dm.set(1, skew(&b) * skew(&a));
+            w.dm.set(3, -skew(&a) * skew(&b));
             a.dot(&b)
         }
     }

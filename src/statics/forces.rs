@@ -125,18 +125,12 @@ pub fn bushing(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> Bu
     let dt = [rt, rt * -skew(&mi.r), -rt, rt * skew(&rho)];
     let ra = angle_rates(&q) * rt;
     let (pt, pa) = (rj * kt, rj * ka);
-    w.dg = Blocks::new([
-        Some(-(pt * dt[0])),
-        Some(-(pt * dt[1])),
-        Some(-(pt * dt[2])),
-        Some(-skew(&w.g) - pt * dt[3]),
-    ]);
-    w.dm = Blocks::new([
-        None,
-        Some(-(pa * ra)),
-        None,
-        Some(-skew(&w.m) + pa * ra),
-    ]);
+    for (k, d) in dt[..3].iter().enumerate() {
+        w.dg.set(k, -(pt * d));
+    }
+    w.dg.set(3, -skew(&w.g) - pt * dt[3]);
+    w.dm.set(1, -(pa * ra));
+    w.dm.set(3, -skew(&w.m) + pa * ra);
     BushingEval {
         t,
         angles,

@@ -72,6 +72,12 @@ impl Blocks {
         out
     }
 
+    /// Sets block `k` (columns `3k..3k + 3`).
+    pub fn set(&mut self, k: usize, m: Mat3) {
+        self.b[k] = m;
+        self.present[k] = true;
+    }
+
     /// The blocks of a 3×12 matrix, those with a non-zero entry present.
     pub fn of_matrix(m: &M3x12) -> Blocks {
         Blocks::new(std::array::from_fn(|k| nonzero_block(m, 3 * k)))
