@@ -230,14 +230,18 @@ impl Workspace {
                 1.0 / l
             };
             row_scale[idx] = s;
-            phi[idx] = v / s;
+            // One division a row (its entries are multiplied by the
+            // reciprocal: a dozen divisions a row cost more than the row's
+            // other arithmetic).
+            let inv = 1.0 / s;
+            phi[idx] = v * inv;
             unit_reaction[idx] = (w.g, w.m);
             if tangent {
                 match a {
                     NewtonMatrix::Dense(a) => {
                         for &(i, g) in &grad[..len] {
-                            a[(n + idx, i)] += g / s;
-                            a[(i, n + idx)] += g / s;
+                            a[(n + idx, i)] += g * inv;
+                            a[(i, n + idx)] += g * inv;
                         }
                     }
                     NewtonMatrix::Sparse(pat, vals) => {
@@ -256,8 +260,8 @@ impl Workspace {
                             match b {
                                 Some(b) => {
                                     let (u, v) = b.slots(i % 6);
-                                    vals[u] += g / s;
-                                    vals[v] += g / s;
+                                    vals[u] += g * inv;
+                                    vals[v] += g * inv;
                                 }
                                 _ => inside = false,
                             }

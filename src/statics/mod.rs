@@ -27,6 +27,7 @@ pub mod path;
 mod pattern;
 mod pivoting;
 pub mod redundancy;
+mod refactor;
 pub mod sensitivity;
 mod sparse;
 mod tangent;

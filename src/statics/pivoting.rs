@@ -42,6 +42,10 @@ pub(crate) struct Factors {
     pub u_ptr: Vec<usize>,
     pub u_idx: Vec<usize>,
     pub u_val: Vec<f64>,
+    /// The reciprocal of each column's pivot: L's multipliers and the back
+    /// substitution multiply by it (a division there is a long step on the
+    /// substitution's critical path, once per column).
+    pub u_inv: Vec<f64>,
 }
 
 impl Factors {
@@ -146,8 +150,9 @@ pub(crate) fn factor(
         for (p, e) in urow.iter().enumerate() {
             at[e.0] = p;
         }
+        let inv = 1.0 / piv;
         for &(i, a, pos) in cand.iter().filter(|e| e.0 != r) {
-            let l = a / piv;
+            let l = a * inv;
             lcol.push((i, l));
             let row = &mut rows[i];
             // The column leaves the active submatrix (its entry becomes L's);
@@ -221,9 +226,11 @@ pub(crate) fn factor(
             next[j] += 1;
         }
     }
+    f.u_inv.clear();
     for (j, &piv) in pivots.iter().enumerate() {
         f.u_idx[next[j]] = j;
         f.u_val[next[j]] = piv;
+        f.u_inv.push(1.0 / piv);
     }
     f.l_val.iter().chain(&f.u_val).all(|v| v.is_finite())
 }

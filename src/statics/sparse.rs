@@ -15,10 +15,11 @@
 //! as every pivot keeps at least [`PIVOT_THRESHOLD`] of the largest entry
 //! left in its column; otherwise it is factorised afresh with new pivots.
 
-use super::condition::{BlockSizes, Scale, largest};
+use super::condition::{BlockSizes, Scale};
 use super::live::Live;
 use super::pattern::Pattern;
 use super::pivoting::{self, Factors};
+use super::refactor::Plan;
 use std::cell::Cell;
 use std::sync::Arc;
 
@@ -40,6 +41,7 @@ const PIVOT_THRESHOLD: f64 = 0.0001;
 pub(crate) struct Pivots {
     live: Arc<Live>,
     own: Factors,
+    plan: Arc<Plan>,
     row_perm: Vec<usize>,
     row_perm_inv: Vec<usize>,
 }
@@ -53,23 +55,26 @@ impl Pivots {
 
 pub(crate) struct SparseLu {
     pattern: Arc<Pattern>,
-    /// The slots factorised, and their values gathered for a fresh
-    /// factorisation (a refactorisation reads them from `a`).
+    /// The slots factorised, and the values factorised in them.
     live: Arc<Live>,
     live_a: Vec<f64>,
     /// How often a matrix widened `live`.
     pub widened: usize,
     row_perm: Vec<usize>,
     row_perm_inv: Vec<usize>,
-    /// The values factorised (in the pattern's slots).
+    /// The matrix factorised in the pattern's slots: `live_a` in the live
+    /// slots, zero in the others (whose entries [`Live::holds`] bounded by a
+    /// rounding's size; the factors are those of this matrix).
     a: Vec<f64>,
     /// Largest absolute entry of the matrix factorised.
     a_max: f64,
     /// Its scaling for the condition estimates ([`super::condition`]),
     /// computed when first asked for.
     scale: Cell<Option<Scale>>,
-    /// The factors of the last factorisation (refactorised in place).
+    /// The factors of the last factorisation (refactorised in place), and
+    /// the products that refactorise them.
     own: Factors,
+    plan: Arc<Plan>,
     /// Whether `own` holds a structure to refactorise with.
     reusable: bool,
     /// Whether `own` holds a factorisation.
@@ -79,9 +84,7 @@ pub(crate) struct SparseLu {
     /// Fresh factorisations and refactorisations with the previous pivots.
     pub fresh: usize,
     pub reused: usize,
-    /// Per slot of the pattern, its row's pivot position (for `row_perm_inv`).
-    pos: Vec<usize>,
-    /// A dense column, zero between uses.
+    /// A dense vector, zero between uses.
     work: Vec<f64>,
     res: Vec<f64>,
 }
@@ -106,19 +109,19 @@ impl SparseLu {
             a_max: 0.0,
             scale: Cell::new(None),
             own: Factors::default(),
+            plan: Arc::new(Plan::default()),
             reusable: false,
             valid: false,
             last_reused: false,
             fresh: 0,
             reused: 0,
-            pos: Vec::new(),
             work: vec![0.0; n],
             res: vec![0.0; n],
         };
         if let Some(pv) = start {
-            (lu.own, lu.row_perm, lu.row_perm_inv) = (pv.own, pv.row_perm, pv.row_perm_inv);
+            (lu.own, lu.plan) = (pv.own, pv.plan);
+            (lu.row_perm, lu.row_perm_inv) = (pv.row_perm, pv.row_perm_inv);
             lu.reusable = true;
-            lu.positions();
         }
         lu
     }
@@ -133,18 +136,12 @@ impl SparseLu {
         lu
     }
 
-    /// `pos` for the current row permutation.
-    fn positions(&mut self) {
-        let (p, inv) = (&self.live.pattern, &self.row_perm_inv);
-        self.pos.clear();
-        self.pos.extend(p.row_idx.iter().map(|&r| inv[r]));
-    }
-
     /// The pivots of the last factorisation, if it succeeded.
     pub fn pivots(&self) -> Option<Pivots> {
         self.valid.then(|| Pivots {
             live: self.live.clone(),
             own: self.own.clone(),
+            plan: self.plan.clone(),
             row_perm: self.row_perm.clone(),
             row_perm_inv: self.row_perm_inv.clone(),
         })
@@ -165,9 +162,10 @@ impl SparseLu {
         if values.len() != self.a.len() {
             return false;
         }
-        self.a.copy_from_slice(values);
-        self.a_max = largest(values);
         self.scale.set(None);
+        // The largest live entry is the matrix's largest when the other
+        // entries are at most `DROP` times it, which is what `holds` asks.
+        self.a_max = self.gather(values);
         if !self.live.holds(values, self.a_max) {
             let Some(live) = self.live.widened(&self.pattern, values) else {
                 return false;
@@ -176,17 +174,25 @@ impl SparseLu {
             self.live_a.resize(self.live.from.len(), 0.0);
             self.reusable = false;
             self.widened += 1;
+            self.a_max = self.gather(values);
         }
-        self.last_reused = self.reusable && self.refactor();
+        self.last_reused =
+            self.reusable && self.plan.run(&mut self.own, &self.live_a, PIVOT_THRESHOLD);
         if self.last_reused {
             self.reused += 1;
             self.valid = true;
             return true;
         }
         self.fresh += 1;
-        self.reusable = self.factor_fresh();
-        self.positions();
-        self.valid = self.reusable
+        let ok = self.factor_fresh();
+        let plan = ok
+            .then(|| Plan::new(&self.own, &self.live, &self.row_perm_inv))
+            .flatten();
+        self.reusable = plan.is_some();
+        if let Some(plan) = plan {
+            self.plan = Arc::new(plan);
+        }
+        self.valid = ok
             && (0..self.dim()).all(|j| {
                 let d = self.own.u_val[self.own.u_ptr[j + 1] - 1];
                 d.is_finite() && d != 0.0
@@ -205,11 +211,21 @@ impl SparseLu {
         Some(self.factor(values))
     }
 
-    /// A factorisation of `self.a` with fresh pivots ([`pivoting`]) into `own`.
-    fn factor_fresh(&mut self) -> bool {
+    /// The live entries of `values` into `live_a` and `a`; their largest
+    /// magnitude (a NaN passed over, as by `f64::max`).
+    fn gather(&mut self, values: &[f64]) -> f64 {
+        let mut big = 0.0f64;
         for (v, &k) in self.live_a.iter_mut().zip(&self.live.from) {
-            *v = self.a[k];
+            *v = values[k];
+            self.a[k] = *v;
+            let m = v.abs();
+            big = if m > big { m } else { big };
         }
+        big
+    }
+
+    /// A factorisation of `live_a` with fresh pivots ([`pivoting`]) into `own`.
+    fn factor_fresh(&mut self) -> bool {
         let (p, f) = (&self.live.pattern, &mut self.own);
         pivoting::factor(
             p,
@@ -218,53 +234,6 @@ impl SparseLu {
             &mut self.row_perm,
             &mut self.row_perm_inv,
         )
-    }
-
-    /// Left-looking LU of `self.a` with the pivots and structure of `own`;
-    /// false (and `own` to be factorised afresh) if a pivot fails the
-    /// threshold or is zero or not finite.
-    fn refactor(&mut self) -> bool {
-        let (p, f, x) = (&self.live.pattern, &mut self.own, &mut self.work);
-        'cols: {
-            for j in 0..p.dim() {
-                let c = p.order[j];
-                let live = p.col_ptr[c]..p.col_ptr[c + 1];
-                for (&i, &k) in self.pos[live.clone()].iter().zip(&self.live.from[live]) {
-                    x[i] = self.a[k];
-                }
-                let (us, ud) = (f.u_ptr[j], f.u_ptr[j + 1] - 1);
-                for (&i, u) in f.u_idx[us..ud].iter().zip(&mut f.u_val[us..ud]) {
-                    let ui = x[i];
-                    x[i] = 0.0;
-                    *u = ui;
-                    if ui != 0.0 {
-                        let col = f.l_ptr[i] + 1..f.l_ptr[i + 1];
-                        for (&r, l) in f.l_idx[col.clone()].iter().zip(&f.l_val[col]) {
-                            x[r] -= l * ui;
-                        }
-                    }
-                }
-                let (ls, le) = (f.l_ptr[j] + 1, f.l_ptr[j + 1]);
-                let piv = x[j];
-                x[j] = 0.0;
-                // (A NaN is passed over, as by `f64::max`; the solve's
-                // finiteness check finds it.)
-                let big = f.l_idx[ls..le].iter().fold(0.0f64, |m, &i| {
-                    let v = x[i].abs();
-                    if v > m { v } else { m }
-                });
-                if !(piv.is_finite() && piv != 0.0 && piv.abs() >= PIVOT_THRESHOLD * big) {
-                    f.l_idx[ls..le].iter().for_each(|&i| x[i] = 0.0);
-                    break 'cols false;
-                }
-                f.u_val[ud] = piv;
-                for (&i, l) in f.l_idx[ls..le].iter().zip(&mut f.l_val[ls..le]) {
-                    *l = x[i] / piv;
-                    x[i] = 0.0;
-                }
-            }
-            true
-        }
     }
 
     /// Solves `A x = b` in place; false if there is no factorisation or the
@@ -290,7 +259,7 @@ impl SparseLu {
         }
         for j in (0..n).rev() {
             let d = f.u_ptr[j + 1] - 1;
-            y[j] /= f.u_val[d];
+            y[j] *= f.u_inv[j];
             let yj = y[j];
             if yj != 0.0 {
                 let col = f.u_ptr[j]..d;
@@ -306,14 +275,16 @@ impl SparseLu {
         b.iter().all(|v| v.is_finite())
     }
 
-    /// `A x - b` into `self.res` for the matrix of `values`.
+    /// `A x - b` into `self.res` for the matrix of `values` in the live
+    /// slots (its other entries, which `holds` bounds, change the residual
+    /// by far less than `satisfies` allows).
     fn residual(&mut self, values: &[f64], x: &[f64], b: &[f64]) {
-        let p = &self.pattern;
+        let (p, from) = (&self.live.pattern, &self.live.from);
         self.res.iter_mut().zip(b).for_each(|(r, v)| *r = -v);
         for (j, xj) in x.iter().enumerate() {
             let range = p.col_ptr[j]..p.col_ptr[j + 1];
-            for (&i, aij) in p.row_idx[range.clone()].iter().zip(&values[range]) {
-                self.res[i] += aij * xj;
+            for (&i, &k) in p.row_idx[range.clone()].iter().zip(&from[range]) {
+                self.res[i] += values[k] * xj;
             }
         }
     }
@@ -336,11 +307,12 @@ impl SparseLu {
         if let Some(s) = self.scale.get() {
             return s;
         }
-        let (p, c) = (&*self.pattern, self.pattern.coords());
+        // On the live slots: the others of `a` are zero.
+        let (p, c) = (&self.live.pattern, self.pattern.coords());
         let mut sizes = BlockSizes::default();
         for j in 0..p.dim() {
             let (top, bottom) = p.column_halves(j);
-            sizes.add_column(j < c, &self.a[top], &self.a[bottom]);
+            sizes.add_column(j < c, &self.live_a[top], &self.live_a[bottom]);
         }
         let s = sizes.scale(c);
         self.scale.set(Some(s));
@@ -393,6 +365,7 @@ impl SparseLu {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::statics::condition::largest;
     use crate::statics::Problem;
     use crate::statics::linear::Lu;
     use crate::statics::path::solve_path;

@@ -1,0 +1,182 @@
+//! A refactorisation of the sparse LU ([`super::sparse`]) with fixed pivots
+//! and structure, as a list of products computed once per structure.
+//!
+//! The left-looking elimination it replaces scattered each column into a
+//! dense vector and subtracted from it, for each entry of the column's U,
+//! that entry times the column of L below it. Every entry of the factors is
+//! thus its matrix entry minus a sum of products `L[r, k] U[k, j]`, `k`
+//! ascending, and which products are known once the structure is. Here each
+//! entry is computed as that sum, in a register and in the same order, so
+//! the factors are the elimination's to the bit (a skipped product of a zero
+//! `U[k, j]` subtracts an exact zero), without the scatter, the gather and
+//! the loop over the column of L per entry of U: a refactorisation's time was
+//! mostly spent in those, and in the chains of dependent loads and stores
+//! through the dense vector (`docs/performance.md`).
+
+use super::live::Live;
+use super::pivoting::Factors;
+
+/// The matrix slot of an entry of the factors that is fill (starts at zero).
+const FILL: u32 = u32::MAX;
+
+/// The products of a refactorisation for one structure of L and U.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Plan {
+    /// Per entry of U (in `Factors::u_val`'s order) and of L (in
+    /// `l_val`'s; its unit diagonal unused): the live slot the entry starts
+    /// from, or [`FILL`], and the end of its products in `ops` (they start
+    /// where the previous entry's end).
+    u_from: Vec<u32>,
+    u_end: Vec<u32>,
+    l_from: Vec<u32>,
+    l_end: Vec<u32>,
+    /// The products `(entry of L, entry of U)`, entry by entry in the order
+    /// the entries are computed: column by column, U's (rows ascending, the
+    /// pivot last), then L's.
+    ops: Vec<(u32, u32)>,
+}
+
+impl Plan {
+    /// The plan for the factors `f` of a matrix on the slots `live`, with
+    /// the pivot position of each row `row_perm_inv`; None if the structure
+    /// does not hold every live slot or is too large for 32-bit indices.
+    pub fn new(f: &Factors, live: &Live, row_perm_inv: &[usize]) -> Option<Plan> {
+        let p = &live.pattern;
+        let n = p.dim();
+        let (nu, nl) = (f.u_val.len(), f.l_val.len());
+        let big = (nu + nl).max(p.nnz());
+        if f.u_ptr.len() != n + 1 || f.l_ptr.len() != n + 1 || big >= FILL as usize {
+            return None;
+        }
+        let mut plan = Plan {
+            u_from: vec![FILL; nu],
+            u_end: vec![0; nu],
+            l_from: vec![FILL; nl],
+            l_end: vec![0; nl],
+            ops: Vec::with_capacity(f.updates()),
+        };
+        // Per pivot position, its entry in the current column (U's entries
+        // first, then L's offset by `nu`); FILL elsewhere.
+        let mut at = vec![FILL; n];
+        // The column's products: (its entry's rank in the column, L, U).
+        let mut col: Vec<(u32, u32, u32)> = Vec::new();
+        for j in 0..n {
+            let (us, ue) = (f.u_ptr[j], f.u_ptr[j + 1]);
+            let (ls, le) = (f.l_ptr[j] + 1, f.l_ptr[j + 1]);
+            for e in us..ue {
+                at[f.u_idx[e]] = e as u32;
+            }
+            for e in ls..le {
+                at[f.l_idx[e]] = (nu + e) as u32;
+            }
+            let rank = |e: u32| -> u32 {
+                let e = e as usize;
+                if e < nu {
+                    (e - us) as u32
+                } else {
+                    (ue - us + e - nu - ls) as u32
+                }
+            };
+            let c = p.order[j];
+            for k in p.col_ptr[c]..p.col_ptr[c + 1] {
+                let e = at[*row_perm_inv.get(p.row_idx[k])?];
+                let slot = k as u32;
+                match e as usize {
+                    FILL_USIZE => return None,
+                    e if e < nu => plan.u_from[e] = slot,
+                    e => plan.l_from[e - nu] = slot,
+                }
+            }
+            // The left-looking order: U's entries of the column ascending,
+            // each times the column of L below its row.
+            col.clear();
+            for eu in us..ue - 1 {
+                let i = f.u_idx[eu];
+                for el in f.l_ptr[i] + 1..f.l_ptr[i + 1] {
+                    let target = at[f.l_idx[el]];
+                    if target == FILL {
+                        return None;
+                    }
+                    col.push((rank(target), el as u32, eu as u32));
+                }
+            }
+            // Stable: each entry's products keep the elimination's order.
+            col.sort_by_key(|t| t.0);
+            let mut next = col.iter().peekable();
+            let mut entry = |r: u32, end: &mut u32, ops: &mut Vec<(u32, u32)>| {
+                while let Some(&(_, l, u)) = next.next_if(|t| t.0 == r) {
+                    ops.push((l, u));
+                }
+                *end = ops.len() as u32;
+            };
+            for e in us..ue {
+                entry(rank(e as u32), &mut plan.u_end[e], &mut plan.ops);
+            }
+            for e in ls..le {
+                entry(rank((nu + e) as u32), &mut plan.l_end[e], &mut plan.ops);
+            }
+            for e in us..ue {
+                at[f.u_idx[e]] = FILL;
+            }
+            for e in ls..le {
+                at[f.l_idx[e]] = FILL;
+            }
+        }
+        Some(plan)
+    }
+
+    /// Refactorises the matrix of `values` (in the live slots) into `f`; false if a pivot is zero, not finite, or under `threshold`
+    /// of the largest entry below it in its column (`f` is then to be
+    /// factorised afresh).
+    pub fn run(&self, f: &mut Factors, values: &[f64], threshold: f64) -> bool {
+        let n = f.u_inv.len();
+        let start = |from: u32| {
+            if from == FILL {
+                0.0
+            } else {
+                values[from as usize]
+            }
+        };
+        let mut op = 0usize;
+        for j in 0..n {
+            let (us, ue) = (f.u_ptr[j], f.u_ptr[j + 1]);
+            for e in us..ue {
+                let mut acc = start(self.u_from[e]);
+                let end = self.u_end[e] as usize;
+                for &(l, u) in &self.ops[op..end] {
+                    acc -= f.l_val[l as usize] * f.u_val[u as usize];
+                }
+                op = end;
+                f.u_val[e] = acc;
+            }
+            let (ls, le) = (f.l_ptr[j] + 1, f.l_ptr[j + 1]);
+            // (A NaN is passed over, as by `f64::max`; the solve's
+            // finiteness check finds it.)
+            let mut big = 0.0f64;
+            for e in ls..le {
+                let mut acc = start(self.l_from[e]);
+                let end = self.l_end[e] as usize;
+                for &(l, u) in &self.ops[op..end] {
+                    acc -= f.l_val[l as usize] * f.u_val[u as usize];
+                }
+                op = end;
+                f.l_val[e] = acc;
+                let v = acc.abs();
+                big = if v > big { v } else { big };
+            }
+            let piv = f.u_val[ue - 1];
+            if !(piv.is_finite() && piv != 0.0 && piv.abs() >= threshold * big) {
+                return false;
+            }
+            let inv = 1.0 / piv;
+            f.u_inv[j] = inv;
+            for l in &mut f.l_val[ls..le] {
+                *l *= inv;
+            }
+        }
+        true
+    }
+}
+
+/// [`FILL`] as a pattern for `usize` matches.
+const FILL_USIZE: usize = FILL as usize;
