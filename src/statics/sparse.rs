@@ -15,7 +15,7 @@
 //! as every pivot keeps at least [`PIVOT_THRESHOLD`] of the largest entry
 //! left in its column; otherwise it is factorised afresh with new pivots.
 
-use super::condition::{BlockSizes, Scale};
+use super::condition::{BlockSizes, Scale, largest};
 use super::live::Live;
 use super::pattern::Pattern;
 use super::pivoting::{self, Factors};
@@ -214,14 +214,13 @@ impl SparseLu {
     /// The live entries of `values` into `live_a` and `a`; their largest
     /// magnitude (a NaN passed over, as by `f64::max`).
     fn gather(&mut self, values: &[f64]) -> f64 {
-        let mut big = 0.0f64;
         for (v, &k) in self.live_a.iter_mut().zip(&self.live.from) {
-            *v = values[k];
-            self.a[k] = *v;
-            let m = v.abs();
-            big = if m > big { m } else { big };
+            let x = values[k];
+            *v = x;
+            self.a[k] = x;
         }
-        big
+        // In lanes: a running maximum is a chain of dependent steps.
+        largest(&self.live_a)
     }
 
     /// A factorisation of `live_a` with fresh pivots ([`pivoting`]) into `own`.
@@ -365,7 +364,6 @@ impl SparseLu {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::statics::condition::largest;
     use crate::statics::Problem;
     use crate::statics::linear::Lu;
     use crate::statics::path::solve_path;
