@@ -11,9 +11,12 @@
 //! each column's structure costs more than its arithmetic, so the next
 //! matrix is refactorised KLU's way:
 //! with the previous pivot sequence and the structure of L and U (the same
-//! for every matrix of the pattern with those pivots), numbers only, as long
-//! as every pivot keeps at least [`PIVOT_THRESHOLD`] of the largest entry
-//! left in its column; otherwise it is factorised afresh with new pivots.
+//! for every matrix of the pattern with those pivots), numbers only
+//! ([`super::refactor::Plan`]: the products each entry of the factors is
+//! made of, listed once per structure), as long as every pivot keeps at
+//! least [`PIVOT_THRESHOLD`] of the largest entry left in its column;
+//! otherwise it is factorised afresh with new pivots. Only the slots that
+//! can be non-zero are factorised ([`Live`]).
 
 use super::condition::{BlockSizes, Scale, largest};
 use super::live::Live;
