@@ -191,8 +191,11 @@ impl Workspace {
         }
         // A joint's equations are consecutive and share its marker frames
         // (computed once a joint, and borrowed, not copied, by each).
-        let mut joint: Option<JointId> = None;
-        let (mut mi, mut mj) = (MarkerKin::default(), MarkerKin::default());
+        let mut frames: Option<(JointId, MarkerKin, MarkerKin)> = p.kept.first().map(|&e| {
+            let joint = p.equations[e].joint;
+            let (mi, mj) = joint_markers(&p.model, &p.layout, st, joint);
+            (joint, mi, mj)
+        });
         let mut w = Wrench::new(None, None, Vec3::zeros(), Vec3::zeros());
         // The λ-weighted sum of the unit reactions of consecutive equations
         // of one joint whose wrenches share their arms (see `Arms`), whose
@@ -205,11 +208,14 @@ impl Workspace {
         for (idx, &e) in p.kept.iter().enumerate() {
             let lam = st.lambda.get(idx).copied().unwrap_or(0.0);
             let eq = &p.equations[e];
-            if joint != Some(eq.joint) {
-                (mi, mj) = joint_markers(&p.model, &p.layout, st, eq.joint);
-                joint = Some(eq.joint);
+            // (Set before the loop from its first equation.)
+            let Some(f) = frames.as_mut() else { break };
+            if f.0 != eq.joint {
+                (f.1, f.2) = joint_markers(&p.model, &p.layout, st, eq.joint);
+                f.0 = eq.joint;
             }
-            let v = evaluate_into(&mi, &mj, eq.primitive, &mut w);
+            let (_, mi, mj) = &*f;
+            let v = evaluate_into(mi, mj, eq.primitive, &mut w);
             // The gradient row with rotation columns times the length, as in
             // `redundancy::scaled_jacobian` (at most 12 entries), and the
             // generalised force it scales (computed once for both uses).

@@ -159,7 +159,7 @@ fn orthonormalize(r: &Mat3) -> Mat3 {
 }
 
 /// A marker's current frame and how it moves with its part.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub struct MarkerKin {
     /// Coordinate block of the marker's part (None on ground).
     pub block: Option<usize>,

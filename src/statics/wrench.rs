@@ -43,8 +43,9 @@ pub fn d_axis_j(a: &Vec3) -> M3x12 {
 /// blocks, each present or identically zero. Most of an element's blocks
 /// are zero by its kind (a joint's unit reaction has at most two, a point
 /// load none), so neither its storage nor the tangent's assembly touches
-/// them.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// them. (An absent block's storage is stale, not zero: read blocks with
+/// [`Blocks::get`] or [`Blocks::matrix`].)
+#[derive(Debug, Clone, Copy)]
 pub struct Blocks {
     b: [Mat3; 4],
     present: [bool; 4],
