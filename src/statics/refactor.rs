@@ -130,39 +130,20 @@ impl Plan {
     /// factorised afresh).
     pub fn run(&self, f: &mut Factors, values: &[f64], threshold: f64) -> bool {
         let n = f.u_inv.len();
-        let start = |from: u32| {
-            if from == FILL {
-                0.0
-            } else {
-                values[from as usize]
-            }
-        };
         let mut op = 0usize;
         for j in 0..n {
             let (us, ue) = (f.u_ptr[j], f.u_ptr[j + 1]);
             for e in us..ue {
-                let mut acc = start(self.u_from[e]);
-                let end = self.u_end[e] as usize;
-                for &(l, u) in &self.ops[op..end] {
-                    acc -= f.l_val[l as usize] * f.u_val[u as usize];
-                }
-                op = end;
-                f.u_val[e] = acc;
+                f.u_val[e] = self.entry(self.u_from[e], self.u_end[e], &mut op, f, values);
             }
             let (ls, le) = (f.l_ptr[j] + 1, f.l_ptr[j + 1]);
             // (A NaN is passed over, as by `f64::max`; the solve's
             // finiteness check finds it.)
             let mut big = 0.0f64;
             for e in ls..le {
-                let mut acc = start(self.l_from[e]);
-                let end = self.l_end[e] as usize;
-                for &(l, u) in &self.ops[op..end] {
-                    acc -= f.l_val[l as usize] * f.u_val[u as usize];
-                }
-                op = end;
-                f.l_val[e] = acc;
-                let v = acc.abs();
-                big = if v > big { v } else { big };
+                let v = self.entry(self.l_from[e], self.l_end[e], &mut op, f, values);
+                f.l_val[e] = v;
+                big = if v.abs() > big { v.abs() } else { big };
             }
             let piv = f.u_val[ue - 1];
             if !(piv.is_finite() && piv != 0.0 && piv.abs() >= threshold * big) {
@@ -175,6 +156,23 @@ impl Plan {
             }
         }
         true
+    }
+
+    /// An entry of the factors: its matrix entry (`from`, or zero for fill)
+    /// minus its products `ops[*op..end]`, in order; `*op` moves to `end`.
+    #[inline]
+    fn entry(&self, from: u32, end: u32, op: &mut usize, f: &Factors, values: &[f64]) -> f64 {
+        let mut acc = if from == FILL {
+            0.0
+        } else {
+            values[from as usize]
+        };
+        let end = end as usize;
+        for &(l, u) in &self.ops[*op..end] {
+            acc -= f.l_val[l as usize] * f.u_val[u as usize];
+        }
+        *op = end;
+        acc
     }
 }
 
