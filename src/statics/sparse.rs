@@ -139,9 +139,10 @@ impl SparseLu {
         lu
     }
 
-    /// The pivots of the last factorisation, if it succeeded.
+    /// The pivots of the last factorisation, if it succeeded and has a
+    /// plan to refactorise with.
     pub fn pivots(&self) -> Option<Pivots> {
-        self.valid.then(|| Pivots {
+        (self.valid && self.reusable).then(|| Pivots {
             live: self.live.clone(),
             own: self.own.clone(),
             plan: self.plan.clone(),
@@ -191,10 +192,11 @@ impl SparseLu {
         let plan = ok
             .then(|| Plan::new(&self.own, &self.live, &self.row_perm_inv))
             .flatten();
+        // Without a plan (a structure missing a live slot: not met), every
+        // matrix is factorised afresh, and no stale plan stays paired with
+        // these factors.
         self.reusable = plan.is_some();
-        if let Some(plan) = plan {
-            self.plan = Arc::new(plan);
-        }
+        self.plan = Arc::new(plan.unwrap_or_default());
         self.valid = ok
             && (0..self.dim()).all(|j| {
                 let d = self.own.u_val[self.own.u_ptr[j + 1] - 1];
