@@ -258,7 +258,13 @@ mod tests {
             let mut rng = Lcg::new(17 + corners as u64);
             let v = values(&pat, p.layout.n(), &mut rng);
             let (mut f, mut perm, mut inv) = (Factors::default(), vec![0; n], vec![0; n]);
-            assert!(pivoting::factor(&live.pattern, &v, &mut f, &mut perm, &mut inv));
+            assert!(pivoting::factor(
+                &live.pattern,
+                &v,
+                &mut f,
+                &mut perm,
+                &mut inv
+            ));
             let plan = Plan::new(&f, &live, &inv).expect("a plan");
             assert_eq!(plan.ops.len(), f.updates());
             // Every entry overwritten (L's unit diagonal is not computed).
