@@ -80,11 +80,14 @@ impl Plan {
             let c = p.order[j];
             for k in p.col_ptr[c]..p.col_ptr[c + 1] {
                 let e = at[*row_perm_inv.get(p.row_idx[k])?];
-                let slot = k as u32;
-                match e as usize {
-                    FILL_USIZE => return None,
-                    e if e < nu => plan.u_from[e] = slot,
-                    e => plan.l_from[e - nu] = slot,
+                if e == FILL {
+                    return None;
+                }
+                let (e, slot) = (e as usize, k as u32);
+                if e < nu {
+                    plan.u_from[e] = slot;
+                } else {
+                    plan.l_from[e - nu] = slot;
                 }
             }
             // The left-looking order: U's entries of the column ascending,
@@ -176,35 +179,13 @@ impl Plan {
     }
 }
 
-/// [`FILL`] as a pattern for `usize` matches.
-const FILL_USIZE: usize = FILL as usize;
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::statics::Problem;
     use crate::statics::pattern::Pattern;
     use crate::statics::pivoting;
-    use crate::statics::testkit::{Lcg, coupled_corners};
-
-    /// Random values in the pattern's slots, `K`'s diagonal dominant, some
-    /// slots exactly zero (as structural zeros of a real matrix are).
-    fn values(pat: &Pattern, n: usize, rng: &mut Lcg) -> Vec<f64> {
-        let mut v: Vec<f64> = (0..pat.nnz())
-            .map(|_| {
-                let x = rng.next();
-                if x.abs() < 0.1 { 0.0 } else { x }
-            })
-            .collect();
-        for j in 0..n {
-            for k in pat.col_ptr[j]..pat.col_ptr[j + 1] {
-                if pat.row_idx[k] == j {
-                    v[k] += 4.0;
-                }
-            }
-        }
-        v
-    }
+    use crate::statics::testkit::{Lcg, coupled_corners, kkt_values};
 
     /// `L U` against the rows and columns of `values` in pivot order: the
     /// largest difference over the largest entry.
@@ -256,7 +237,8 @@ mod tests {
             let live = Live::all(&pat);
             let n = pat.dim();
             let mut rng = Lcg::new(17 + corners as u64);
-            let v = values(&pat, p.layout.n(), &mut rng);
+            // Some slots exactly zero, as structural zeros of a real matrix are.
+            let v = kkt_values(&pat, p.layout.n(), &mut rng, 0.1);
             let (mut f, mut perm, mut inv) = (Factors::default(), vec![0; n], vec![0; n]);
             assert!(pivoting::factor(
                 &live.pattern,

@@ -42,7 +42,7 @@ const PIVOT_THRESHOLD: f64 = 0.0001;
 /// from the same one: a fresh factorisation costs 10-30 refactorisations).
 #[derive(Debug, Clone)]
 pub(crate) struct Pivots {
-    live: Arc<Live>,
+    pub(super) live: Arc<Live>,
     own: Factors,
     plan: Arc<Plan>,
     row_perm: Vec<usize>,
@@ -373,7 +373,7 @@ mod tests {
     use crate::statics::linear::Lu;
     use crate::statics::path::solve_path;
     use crate::statics::tangent::SPARSE_FROM;
-    use crate::statics::testkit::{Lcg, coupled_corners};
+    use crate::statics::testkit::{Lcg, coupled_corners, kkt_values};
 
     /// The pattern of the coupled model of `n` corners, whatever its size.
     fn pattern(n: usize) -> (Problem, Arc<Pattern>) {
@@ -383,18 +383,9 @@ mod tests {
         (p, pat)
     }
 
-    /// Random values in the pattern's slots, the diagonal of `K` (the first
-    /// `n` unknowns) dominant enough to be regular, the multipliers' block
-    /// zero (a KKT matrix).
+    /// [`kkt_values`] without zeros, from a seed.
     fn values(pat: &Pattern, n: usize, seed: u64) -> Vec<f64> {
-        let mut rng = Lcg::new(seed);
-        let mut v: Vec<f64> = (0..pat.nnz()).map(|_| rng.next()).collect();
-        for j in 0..n {
-            if let Some(s) = pat.slot(j, j) {
-                v[s] += 4.0;
-            }
-        }
-        v
+        kkt_values(pat, n, &mut Lcg::new(seed), 0.0)
     }
 
     fn dense(pat: &Pattern, v: &[f64]) -> faer::Mat<f64> {
@@ -698,56 +689,5 @@ mod tests {
         assert_eq!((s.widened, s.live.count().0), (1, pat.nnz()));
         check(&mut s, &inside);
         assert_eq!(s.widened, 1);
-    }
-
-    /// The slots the seed pivots cover ([`crate::statics::tangent::seed_pivots`],
-    /// found at design and at a generic state near it) hold every Newton
-    /// matrix at the equilibria of the McPherson's bump sweep and of the
-    /// car's load cases (so no solver along them widens its factors), and
-    /// they are about half the structural pattern: a refactorisation on them
-    /// takes under half the multiply-adds of one on the whole pattern.
-    #[test]
-    fn the_seed_slots_hold_every_matrix_along_real_paths() {
-        for (file, set) in [
-            ("examples/mcpherson.axle", "bump"),
-            ("examples/vehicle.axle", "vehicle"),
-        ] {
-            let src = std::fs::read_to_string(file).expect("example");
-            let (_, c) = crate::check::check_str(file, &src);
-            let m = c.model.expect("the example checks");
-            let p = Problem::new(&m).expect("problem");
-            let pat = p.pattern.clone().expect("the sparse path");
-            crate::statics::tangent::seed_pivots(&p);
-            let pv = pat
-                .pivots
-                .get()
-                .and_then(Option::as_ref)
-                .expect("seed pivots");
-            let (live, all) = pv.live.count();
-            let mut whole = SparseLu::starting_with(pat.clone(), Live::all(&pat));
-            let mut ws = crate::statics::assembly::Workspace::new(&p);
-            let design = crate::statics::coords::State::design(&m);
-            ws.eval(&p, &design, &[], true).expect("evaluates");
-            let crate::statics::tangent::NewtonMatrix::Sparse(_, v) = &ws.a else {
-                panic!("sparse storage")
-            };
-            assert!(whole.factor(v));
-            let (narrow, full) = (pv.own.updates(), whole.own.updates());
-            eprintln!("{file}: {live} of {all} slots, {narrow} multiply-adds against {full}");
-            assert!(
-                2 * live < all + all / 10 && 2 * narrow < full,
-                "{live} {all} {narrow} {full}"
-            );
-            let id = m.load_set_named(set).expect("load set");
-            let path = solve_path(&p, id).expect("solves");
-            for eq in &path {
-                ws.eval(&p, &eq.state, eq.state.loads(), true)
-                    .expect("evaluates");
-                let crate::statics::tangent::NewtonMatrix::Sparse(_, v) = &ws.a else {
-                    panic!("sparse storage")
-                };
-                assert!(pv.live.holds(v, largest(v)), "{file}");
-            }
-        }
     }
 }

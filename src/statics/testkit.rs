@@ -1,6 +1,7 @@
 //! Small random models and states for the finite-difference unit tests.
 
 use super::coords::{State, rodrigues};
+use super::pattern::Pattern;
 use crate::geom::{Mat3, Vec3};
 use crate::model::*;
 
@@ -242,4 +243,24 @@ pub fn coupled_corners(n: usize) -> (Model, LoadSetId) {
         form: src.form.clone(),
     }];
     (m, LoadSetId(0))
+}
+
+/// Random values in a Newton matrix pattern's slots (a KKT matrix: the
+/// pattern has no multiplier-multiplier slots), `K`'s diagonal (the first
+/// `n` unknowns) made dominant enough to be regular, and the values under
+/// `zero_below` in magnitude exact zeros (as a real matrix's structural
+/// zeros are; 0: none).
+pub(crate) fn kkt_values(pat: &Pattern, n: usize, rng: &mut Lcg, zero_below: f64) -> Vec<f64> {
+    let mut v: Vec<f64> = (0..pat.nnz())
+        .map(|_| {
+            let x = rng.next();
+            if x.abs() < zero_below { 0.0 } else { x }
+        })
+        .collect();
+    for j in 0..n {
+        if let Some(s) = pat.slot(j, j) {
+            v[s] += 4.0;
+        }
+    }
+    v
 }
