@@ -657,8 +657,8 @@ mod tests {
         // Every fifth slot off the diagonal left out.
         let mut keep: Vec<bool> = (0..pat.nnz()).map(|k| k % 5 != 0).collect();
         for j in 0..pat.dim() {
-            for k in pat.col_ptr[j]..pat.col_ptr[j + 1] {
-                keep[k] |= pat.row_idx[k] == j;
+            if let Some(k) = pat.slot(j, j) {
+                keep[k] = true;
             }
         }
         let narrow = Live::new(&pat, &keep).expect("order");
