@@ -158,8 +158,12 @@ pub fn identify(
     let measured_def = |b: BushingId, ax: usize| -> Vec<f64> {
         (0..data.steps.len())
             .map(|k| {
-                let ev =
-                    forces::bushing(model, &layout, &data.state(k), &model.bushings[b.index()]);
+                let ev = forces::bushing_state(
+                    model,
+                    &layout,
+                    &data.state(k),
+                    &model.bushings[b.index()],
+                );
                 if ax < 3 { ev.t[ax] } else { ev.angles[ax - 3] }
             })
             .collect()
@@ -222,7 +226,7 @@ pub fn identify(
                 let force: Vec<f64> = states
                     .iter()
                     .map(|st| {
-                        let ev = forces::bushing(
+                        let ev = forces::bushing_state(
                             problem.model(),
                             &layout,
                             st,

@@ -12,17 +12,11 @@ use crate::model::{
     StopId, StopKind, values,
 };
 
-/// A bushing's state: deformation, force and torque on I in J axes, and its wrench.
+/// A bushing's state and its wrench (with the derivatives the Newton
+/// matrix needs; [`bushing_state`] when only the state is read).
 #[derive(Debug, Clone)]
 pub struct BushingEval {
-    /// Translational deformation `t = R_J^T (p_I - p_J)`, mm.
-    pub t: Vec3,
-    /// Projected angles `(ax, ay, az)`, rad.
-    pub angles: Vec3,
-    /// Force on I, J axes, N.
-    pub force: Vec3,
-    /// Torque on I, J axes, N·mm.
-    pub torque: Vec3,
+    pub state: BushingState,
     pub wrench: Wrench,
 }
 
@@ -75,9 +69,13 @@ pub fn bushing_state(model: &Model, layout: &Layout, state: &State, b: &Bushing)
 /// A bushing's deformation, force and torque on I (J axes).
 #[derive(Debug, Clone, Copy)]
 pub struct BushingState {
+    /// Translational deformation `t = R_J^T (p_I - p_J)`, mm.
     pub t: Vec3,
+    /// Projected angles `(ax, ay, az)`, rad.
     pub angles: Vec3,
+    /// Force on I, J axes, N.
     pub force: Vec3,
+    /// Torque on I, J axes, N·mm.
     pub torque: Vec3,
 }
 
@@ -132,10 +130,12 @@ pub fn bushing(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> Bu
     w.dm.set(1, -(pa * ra));
     w.dm.set(3, -skew(&w.m) + pa * ra);
     BushingEval {
-        t,
-        angles,
-        force,
-        torque,
+        state: BushingState {
+            t,
+            angles,
+            force,
+            torque,
+        },
         wrench: w,
     }
 }
@@ -367,7 +367,7 @@ mod tests {
             let energy = |st: &State| -> f64 {
                 let mut v = 0.0;
                 let b = &model.bushings[0];
-                let ev = bushing(&model, &layout, st, b);
+                let ev = bushing_state(&model, &layout, st, b);
                 for k in 0..3 {
                     let d = ev.t[k] - b.offset[k].value;
                     let (k1, k3) = match &b.translational[k] {
