@@ -299,6 +299,38 @@ impl Workspace {
         Ok(inside)
     }
 
+    /// The residual of the state last evaluated (under `old`, with no
+    /// homotopy) under the loads `new` instead: the loads' generalised
+    /// forces exchanged, the element forces and constraints kept. A load
+    /// has no part in the constraints or the element scale, so this is the
+    /// evaluation's residual without evaluating a single element (to the
+    /// rounding of the exchanged sums). The matrix is left as it was: it
+    /// carries the old loads' stiffness, which Newton re-evaluates if it
+    /// needs the matrix. `st` is the state evaluated.
+    pub(crate) fn exchange_loads(
+        &mut self,
+        p: &Problem,
+        st: &State,
+        old: &[PointLoad],
+        new: &[PointLoad],
+    ) {
+        let l = p.length;
+        let (r, scale) = (&mut self.r, &self.scale);
+        for ld in old {
+            if let Some(w) = point_load(&p.model, &p.layout, st, ld) {
+                w.each_force(|i, v| r[i] -= v * scale[i]);
+            }
+        }
+        let mut big = 0.0f64;
+        for ld in new {
+            if let Some(w) = point_load(&p.model, &p.layout, st, ld) {
+                big = big.max(w.g.norm() + w.m.norm() / l);
+                w.each_force(|i, v| r[i] += v * scale[i]);
+            }
+        }
+        self.load_scale = big;
+    }
+
     /// Applies the homotopy of a sub-step to the residual.
     pub(crate) fn release(&mut self, h: &Homotopy) {
         if h.remaining > 0.0 && h.r0.len() == self.r.len() && h.phi0.len() == self.phi.len() {

@@ -278,9 +278,9 @@ pub(crate) fn solve_reusing(
         _ => buffers.insert(Solver::new(problem, start)),
     };
     sv.factorizations = 0;
-    sv.predict = sv
-        .ended_at
-        .take()
+    let ended_at = sv.ended_at.take();
+    sv.predict = ended_at
+        .as_ref()
         .is_some_and(|e| e.poses == start.poses && e.lambda == start.lambda);
     // Not across a friction's stick/slip kink: the correction of a case
     // that slipped is no guide to one that sticks.
@@ -295,7 +295,13 @@ pub(crate) fn solve_reusing(
     // element forces of the force scale. A predicted first step does not use
     // the Newton matrix at the start (Newton evaluates it if the prediction
     // fails).
-    sv.ws.eval(problem, &state, loads, !sv.predict)?;
+    // The workspace holds the evaluation at the last solve's end, under its
+    // loads: at the same state, only the loads change (a friction's history,
+    // committed since, may change its force: evaluated afresh).
+    match &ended_at {
+        Some(e) if sv.predict && smooth => sv.ws.exchange_loads(problem, &state, &e.loads, loads),
+        _ => sv.ws.eval(problem, &state, loads, !sv.predict)?,
+    }
     let force = force_scale(problem, loads, start, sv.ws.element_scale);
     let from = start.loads.clone();
     // The start's own residual, needed only once a sub-step is taken.

@@ -469,6 +469,45 @@ mod tests {
         assert_eq!(held, own);
     }
 
+    /// The next case's start residual is the last evaluation's with the
+    /// loads exchanged (`Workspace::exchange_loads`): it must equal a fresh
+    /// evaluation at the same state under the new loads, here with a load
+    /// moved to another marker and a torque added, to rounding.
+    #[test]
+    fn exchanging_the_loads_equals_a_fresh_evaluation() {
+        let m = mcpherson();
+        let p = Problem::new(&m).expect("problem");
+        let old = wheel_load(&m, 500.0, -800.0, 3500.0);
+        let st = solve(&p, &old, &State::design(&m)).expect("solves").state;
+        let up = m.part_named("upright").expect("upright");
+        let mut new = wheel_load(&m, -1200.0, 2000.0, 6000.0);
+        new.push(PointLoad {
+            marker: m.marker_named(up, "L7").expect("marker"),
+            force: Vec3::new(0.0, 300.0, 0.0),
+            torque: Vec3::new(40.0, 0.0, -25.0),
+        });
+        let mut exchanged = Workspace::new(&p);
+        exchanged.eval(&p, &st, &old, false).expect("evaluates");
+        exchanged.exchange_loads(&p, &st, &old, &new);
+        let mut fresh = Workspace::new(&p);
+        fresh.eval(&p, &st, &new, false).expect("evaluates");
+        let scale = fresh.force_scale();
+        assert!(scale > 6000.0, "{scale}");
+        let worst = exchanged
+            .r
+            .iter()
+            .zip(&fresh.r)
+            .fold(0.0f64, |w, (a, b)| w.max((a - b).abs()));
+        assert!(worst < 1e-12 * scale, "{worst}");
+        assert!(
+            fresh.r.iter().any(|v| v.abs() > 1e3),
+            "far from equilibrium"
+        );
+        assert_eq!(exchanged.phi, fresh.phi);
+        assert_eq!(exchanged.load_scale, fresh.load_scale);
+        assert_eq!(exchanged.element_scale, fresh.element_scale);
+    }
+
     /// A NaN in the residual (an element force undefined at a state) or an
     /// overflowing force scale is an infinite error: `f64::max` would drop
     /// the NaN and report 0, that is, "converged".
