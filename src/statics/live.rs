@@ -36,6 +36,11 @@ pub(crate) struct Live {
     /// The full pattern's other slots, as runs of consecutive slots: at
     /// most [`DROP`] of the largest entry in every matrix factorised.
     dead: Vec<Range<usize>>,
+    /// The live slots row by row: `(column, slot of the full pattern)`,
+    /// row `i`'s at `by_row[row_ptr[i]..row_ptr[i + 1]]` (a product `A x`
+    /// as one sum a row, in a register, [`Live::residual`]).
+    row_ptr: Vec<usize>,
+    by_row: Vec<(u32, u32)>,
 }
 
 impl Live {
@@ -48,7 +53,7 @@ impl Live {
     /// [`Live::new`] with its own fill-reducing order (`reorder`) or `full`'s.
     pub fn ordered(full: &Pattern, keep: &[bool], reorder: bool) -> Option<Live> {
         let pattern = full.restricted(keep, reorder)?;
-        let from = (0..full.nnz()).filter(|&k| keep[k]).collect();
+        let from: Vec<usize> = (0..full.nnz()).filter(|&k| keep[k]).collect();
         let mut dead: Vec<Range<usize>> = Vec::new();
         for k in (0..full.nnz()).filter(|&k| !keep[k]) {
             match dead.last_mut() {
@@ -56,20 +61,45 @@ impl Live {
                 _ => dead.push(k..k + 1),
             }
         }
+        let (row_ptr, by_row) = rows(&pattern, &from);
         Some(Live {
             pattern,
             from,
             dead,
+            row_ptr,
+            by_row,
         })
     }
 
     /// Every slot of `full`.
     pub fn all(full: &Pattern) -> Live {
+        let from: Vec<usize> = (0..full.nnz()).collect();
+        let (row_ptr, by_row) = rows(full, &from);
         Live {
             pattern: full.clone(),
-            from: (0..full.nnz()).collect(),
+            from,
             dead: Vec::new(),
+            row_ptr,
+            by_row,
         }
+    }
+
+    /// `A x - b` into `out` for the matrix `A` of `values` (in the full
+    /// pattern's slots) on these slots, and the largest magnitude of its
+    /// entries (a NaN passed over, as by `f64::max`). Row by row: a
+    /// column-wise product adds into `out` through memory, a chain of
+    /// dependent loads and stores per row.
+    pub fn residual(&self, values: &[f64], x: &[f64], b: &[f64], out: &mut [f64]) -> f64 {
+        let mut big = 0.0f64;
+        for (i, (o, bi)) in out.iter_mut().zip(b).enumerate() {
+            let mut acc = -bi;
+            for &(j, k) in &self.by_row[self.row_ptr[i]..self.row_ptr[i + 1]] {
+                acc += values[k as usize] * x[j as usize];
+            }
+            *o = acc;
+            big = if acc.abs() > big { acc.abs() } else { big };
+        }
+        big
     }
 
     /// The slots of `values` (a matrix in a pattern's slots) above [`DROP`]
@@ -102,4 +132,27 @@ impl Live {
         let dead: usize = self.dead.iter().map(|r| r.len()).sum();
         (self.from.len(), self.from.len() + dead)
     }
+}
+
+/// The slots of `pattern` (the full pattern's `from`) row by row, as
+/// [`Live::by_row`] holds them, with the rows' starts.
+fn rows(pattern: &Pattern, from: &[usize]) -> (Vec<usize>, Vec<(u32, u32)>) {
+    let n = pattern.dim();
+    let mut row_ptr = vec![0usize; n + 1];
+    for &i in &pattern.row_idx {
+        row_ptr[i + 1] += 1;
+    }
+    for i in 0..n {
+        row_ptr[i + 1] += row_ptr[i];
+    }
+    let mut next = row_ptr.clone();
+    let mut by_row = vec![(0u32, 0u32); pattern.row_idx.len()];
+    for j in 0..n {
+        for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+            let i = pattern.row_idx[k];
+            by_row[next[i]] = (j as u32, from[k] as u32);
+            next[i] += 1;
+        }
+    }
+    (row_ptr, by_row)
 }

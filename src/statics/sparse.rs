@@ -279,30 +279,17 @@ impl SparseLu {
         b.iter().all(|v| v.is_finite())
     }
 
-    /// `A x - b` into `self.res` for the matrix of `values` in the live
-    /// slots (its other entries, which `holds` bounds, change the residual
-    /// by far less than `satisfies` allows).
-    fn residual(&mut self, values: &[f64], x: &[f64], b: &[f64]) {
-        let (p, from) = (&self.live.pattern, &self.live.from);
-        self.res.iter_mut().zip(b).for_each(|(r, v)| *r = -v);
-        for (j, xj) in x.iter().enumerate() {
-            let range = p.col_ptr[j]..p.col_ptr[j + 1];
-            for (&i, &k) in p.row_idx[range.clone()].iter().zip(&from[range]) {
-                self.res[i] += values[k] * xj;
-            }
-        }
-    }
-
     /// Whether `x` solves `A x = b` to a residual of `1e-8` of the sizes
-    /// involved (as [`super::linear::Lu::satisfies`]).
+    /// involved (as [`super::linear::Lu::satisfies`]), `A` the matrix of
+    /// `values` in the live slots (its other entries, which `holds` bounds,
+    /// change the residual by far less than that).
     pub fn satisfies(&mut self, values: &[f64], x: &[f64], b: &[f64]) -> bool {
         if values.len() != self.a.len() || x.len() != self.dim() || b.len() != self.dim() {
             return false;
         }
         let x_max = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let b_max = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        self.residual(values, x, b);
-        let r = self.res.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let r = self.live.residual(values, x, b, &mut self.res);
         r <= 1e-8 * (b_max + self.a_max * x_max)
     }
 
