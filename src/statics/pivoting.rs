@@ -46,6 +46,71 @@ pub(crate) struct Factors {
     /// substitution multiply by it (a division there is a long step on the
     /// substitution's critical path, once per column).
     pub u_inv: Vec<f64>,
+    /// The entries of L and U row by row, for the substitutions
+    /// ([`Rows`]); the structure's, so a refactorisation keeps them.
+    pub rows: Rows,
+}
+
+/// The entries of L (below its diagonal) and U (right of its pivots) row
+/// by row: `(column, index into l_val or u_val)`, row `i`'s at
+/// `l[l_ptr[i]..l_ptr[i + 1]]`, columns ascending, and at
+/// `u[u_ptr[i]..u_ptr[i + 1]]`, columns descending. A substitution then
+/// sums each row in a register, in the order the column-oriented one
+/// subtracted into the row's memory (the same bits), instead of adding
+/// into memory, a chain of dependent loads and stores per row.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Rows {
+    pub l_ptr: Vec<usize>,
+    pub l: Vec<(u32, u32)>,
+    pub u_ptr: Vec<usize>,
+    pub u: Vec<(u32, u32)>,
+}
+
+impl Rows {
+    /// The rows of `f`'s structure (its columns' entries); None if an index
+    /// does not fit in 32 bits.
+    fn of(f: &Factors) -> Option<Rows> {
+        let n = f.u_inv.len();
+        let (l_ptr, l) = by_rows(
+            n,
+            (0..n).map(|j| (j, f.l_ptr[j] + 1..f.l_ptr[j + 1])),
+            &f.l_idx,
+        )?;
+        let (u_ptr, u) = by_rows(
+            n,
+            (0..n).rev().map(|j| (j, f.u_ptr[j]..f.u_ptr[j + 1] - 1)),
+            &f.u_idx,
+        )?;
+        Some(Rows { l_ptr, l, u_ptr, u })
+    }
+}
+
+/// The entries of `columns` (each a column and its range in `idx`, which
+/// holds the entries' rows), row by row in the order the columns come.
+fn by_rows(
+    n: usize,
+    columns: impl Iterator<Item = (usize, std::ops::Range<usize>)> + Clone,
+    idx: &[usize],
+) -> Option<(Vec<usize>, Vec<(u32, u32)>)> {
+    let mut ptr = vec![0usize; n + 1];
+    for (_, range) in columns.clone() {
+        for &i in &idx[range] {
+            ptr[i + 1] += 1;
+        }
+    }
+    for i in 0..n {
+        ptr[i + 1] += ptr[i];
+    }
+    let mut next = ptr.clone();
+    let mut out = vec![(0u32, 0u32); ptr[n]];
+    for (j, range) in columns {
+        for e in range {
+            let i = idx[e];
+            out[next[i]] = (u32::try_from(j).ok()?, u32::try_from(e).ok()?);
+            next[i] += 1;
+        }
+    }
+    Some((ptr, out))
 }
 
 impl Factors {
@@ -232,5 +297,11 @@ pub(crate) fn factor(
         f.u_val[next[j]] = piv;
         f.u_inv.push(1.0 / piv);
     }
+    // (Factors too large for 32-bit indices are refused, as by the
+    // refactorisation's plan: far beyond any mechanism's.)
+    let Some(rows) = Rows::of(f) else {
+        return false;
+    };
+    f.rows = rows;
     f.l_val.iter().chain(&f.u_val).all(|v| v.is_finite())
 }

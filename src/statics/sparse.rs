@@ -252,25 +252,21 @@ impl SparseLu {
         for (pos, &r) in self.row_perm.iter().enumerate() {
             y[pos] = b[r];
         }
-        for j in 0..n {
-            let yj = y[j];
-            if yj != 0.0 {
-                let col = f.l_ptr[j] + 1..f.l_ptr[j + 1];
-                for (&r, l) in f.l_idx[col.clone()].iter().zip(&f.l_val[col]) {
-                    y[r] -= l * yj;
-                }
+        // Row by row ([`super::pivoting::Rows`]), each row's sum in a register.
+        let rows = &f.rows;
+        for i in 0..n {
+            let mut acc = y[i];
+            for &(j, e) in &rows.l[rows.l_ptr[i]..rows.l_ptr[i + 1]] {
+                acc -= f.l_val[e as usize] * y[j as usize];
             }
+            y[i] = acc;
         }
-        for j in (0..n).rev() {
-            let d = f.u_ptr[j + 1] - 1;
-            y[j] *= f.u_inv[j];
-            let yj = y[j];
-            if yj != 0.0 {
-                let col = f.u_ptr[j]..d;
-                for (&r, u) in f.u_idx[col.clone()].iter().zip(&f.u_val[col]) {
-                    y[r] -= u * yj;
-                }
+        for i in (0..n).rev() {
+            let mut acc = y[i];
+            for &(j, e) in &rows.u[rows.u_ptr[i]..rows.u_ptr[i + 1]] {
+                acc -= f.u_val[e as usize] * y[j as usize];
             }
+            y[i] = acc * f.u_inv[i];
         }
         for (j, &c) in p.order.iter().enumerate() {
             b[c] = y[j];
