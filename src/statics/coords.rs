@@ -116,8 +116,9 @@ impl State {
             // frame origin is. With `x += dx` a 0.2 rad swing of a lower arm whose
             // origin is 0.5 m from its bushing misplaces that bushing by
             // millimetres, and Newton's full steps fail on the stiff bushing.
-            *x += screw_translation(&th) * dx;
-            *r = orthonormalize(&(rodrigues(&th) * *r));
+            let (rot, v) = screw(&th);
+            *x += v * dx;
+            *r = orthonormalize(&(rot * *r));
         }
     }
 }
@@ -133,6 +134,29 @@ pub fn rodrigues(th: &Vec3) -> Mat3 {
         (a.sin() / a, (1.0 - a.cos()) / (a * a))
     };
     Mat3::identity() + k * s + k * k * c
+}
+
+/// [`rodrigues`] and [`screw_translation`] of one twist, sharing its
+/// angle's norm, sine and cosine and `theta~²` (the same values as theirs).
+fn screw(th: &Vec3) -> (Mat3, Mat3) {
+    let a = th.norm();
+    let k = skew(th);
+    let kk = k * k;
+    let (sin, cos) = a.sin_cos();
+    let (s, c) = if a < 1e-6 {
+        (1.0 - a * a / 6.0, 0.5 - a * a / 24.0)
+    } else {
+        (sin / a, (1.0 - cos) / (a * a))
+    };
+    let (c1, c2) = if a < 1e-4 {
+        (0.5 - a * a / 24.0, 1.0 / 6.0 - a * a / 120.0)
+    } else {
+        ((1.0 - cos) / (a * a), (a - sin) / (a * a * a))
+    };
+    (
+        Mat3::identity() + k * s + kk * c,
+        Mat3::identity() + k * c1 + kk * c2,
+    )
 }
 
 /// `V(theta) = I + (1 - cos a)/a² theta~ + (a - sin a)/a³ theta~²`: the origin
@@ -202,6 +226,21 @@ mod tests {
             assert!((r * th - th).norm() < 1e-14);
             let na = nalgebra::Rotation3::new(th);
             assert!((r - na.matrix()).abs().max() < 1e-14);
+        }
+    }
+
+    /// `State::apply`'s shared computation gives Rodrigues' rotation and the
+    /// screw's translation map to the bit, on both sides of their series'
+    /// thresholds.
+    #[test]
+    fn screw_is_rodrigues_and_the_screw_translation() {
+        for th in [
+            Vec3::new(0.3, -0.2, 0.9),
+            Vec3::new(3e-5, -2e-5, 1e-5),
+            Vec3::new(1e-8, 0.0, 2e-8),
+            Vec3::zeros(),
+        ] {
+            assert_eq!(screw(&th), (rodrigues(&th), screw_translation(&th)));
         }
     }
 
