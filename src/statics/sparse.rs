@@ -16,7 +16,9 @@
 //! made of, listed once per structure), as long as every pivot keeps at
 //! least [`PIVOT_THRESHOLD`] of the largest entry left in its column;
 //! otherwise it is factorised afresh with new pivots. Only the slots that
-//! can be non-zero are factorised ([`Live`]).
+//! can be non-zero are factorised ([`Live`]). The substitutions and the
+//! residual check run row by row ([`pivoting::Rows`], [`Live::residual`]),
+//! each row's sum in a register.
 
 use super::condition::{BlockSizes, Scale, largest};
 use super::live::Live;
