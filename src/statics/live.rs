@@ -139,7 +139,8 @@ impl Live {
 }
 
 /// The slots of `pattern` (the full pattern's `from`) row by row, as
-/// [`Live::by_row`] holds them, with the rows' starts.
+/// [`Live::by_row`] holds them, with the rows' starts. (The full pattern's
+/// slots, and so its dimension, fit in 32 bits: [`Pattern::new`].)
 fn rows(pattern: &Pattern, from: &[usize]) -> (Vec<usize>, Vec<(u32, u32)>) {
     let n = pattern.dim();
     let mut row_ptr = vec![0usize; n + 1];

@@ -65,7 +65,9 @@ pub(crate) struct Pattern {
 
 impl Pattern {
     /// The pattern of `p`'s Newton matrix; None when a wrench's parts cannot
-    /// be read at design or an equation acts on no moving part.
+    /// be read at design, an equation acts on no moving part, or its slots
+    /// do not fit the 32-bit indices of [`super::live::Live`]'s rows (four
+    /// billion entries: far beyond any mechanism).
     pub fn new(p: &Problem) -> Option<Pattern> {
         let (n, m) = (p.layout.n(), p.kept.len());
         let np = n / 6;
@@ -125,6 +127,9 @@ impl Pattern {
                     .collect::<Option<Vec<usize>>>()
             })
             .collect::<Option<Vec<_>>>()?;
+        if u32::try_from(row_idx.len()).is_err() {
+            return None;
+        }
         let (order, order_inv) = column_order(n + m, &col_ptr, &row_idx)?;
         Some(Pattern {
             n,
