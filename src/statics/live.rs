@@ -119,7 +119,7 @@ impl Live {
         !self.dead.iter().any(|r| {
             values[r.clone()]
                 .iter()
-                .fold(false, |out, v| out | !(v.abs() <= tol))
+                .fold(false, |out, v| out | (v.abs() > tol) | v.is_nan())
         })
     }
 
@@ -153,9 +153,9 @@ fn rows(pattern: &Pattern, from: &[usize]) -> (Vec<usize>, Vec<(u32, u32)>) {
     let mut next = row_ptr.clone();
     let mut by_row = vec![(0u32, 0u32); pattern.row_idx.len()];
     for j in 0..n {
-        for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
-            let i = pattern.row_idx[k];
-            by_row[next[i]] = (j as u32, from[k] as u32);
+        let range = pattern.col_ptr[j]..pattern.col_ptr[j + 1];
+        for (&i, &k) in pattern.row_idx[range.clone()].iter().zip(&from[range]) {
+            by_row[next[i]] = (j as u32, k as u32);
             next[i] += 1;
         }
     }

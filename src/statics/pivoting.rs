@@ -85,13 +85,16 @@ impl Rows {
     }
 }
 
+/// Rows' starts and their entries `(column, index)`, as [`Rows`] holds them.
+type ByRows = (Vec<usize>, Vec<(u32, u32)>);
+
 /// The entries of `columns` (each a column and its range in `idx`, which
 /// holds the entries' rows), row by row in the order the columns come.
 fn by_rows(
     n: usize,
     columns: impl Iterator<Item = (usize, std::ops::Range<usize>)> + Clone,
     idx: &[usize],
-) -> Option<(Vec<usize>, Vec<(u32, u32)>)> {
+) -> Option<ByRows> {
     let mut ptr = vec![0usize; n + 1];
     for (_, range) in columns.clone() {
         for &i in &idx[range] {
