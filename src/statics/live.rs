@@ -5,6 +5,7 @@
 
 use super::condition::largest;
 use super::pattern::Pattern;
+use super::pivoting::{ByRows, by_rows};
 use std::ops::Range;
 
 /// An entry outside a factorisation's slots ([`Live`]) no larger than this
@@ -139,25 +140,17 @@ impl Live {
 }
 
 /// The slots of `pattern` (the full pattern's `from`) row by row, as
-/// [`Live::by_row`] holds them, with the rows' starts. (The full pattern's
-/// slots, and so its dimension, fit in 32 bits: [`Pattern::new`].)
-fn rows(pattern: &Pattern, from: &[usize]) -> (Vec<usize>, Vec<(u32, u32)>) {
+/// [`Live::by_row`] holds them, with the rows' starts: the pattern's
+/// entries by rows ([`by_rows`], as the factors'), each then named by its
+/// slot of the full pattern. (The full pattern's slots, and so its
+/// dimension, fit in 32 bits: [`Pattern::new`].)
+fn rows(pattern: &Pattern, from: &[usize]) -> ByRows {
     let n = pattern.dim();
-    let mut row_ptr = vec![0usize; n + 1];
-    for &i in &pattern.row_idx {
-        row_ptr[i + 1] += 1;
-    }
-    for i in 0..n {
-        row_ptr[i + 1] += row_ptr[i];
-    }
-    let mut next = row_ptr.clone();
-    let mut by_row = vec![(0u32, 0u32); pattern.row_idx.len()];
-    for j in 0..n {
-        let range = pattern.col_ptr[j]..pattern.col_ptr[j + 1];
-        for (&i, &k) in pattern.row_idx[range.clone()].iter().zip(&from[range]) {
-            by_row[next[i]] = (j as u32, k as u32);
-            next[i] += 1;
-        }
+    let columns = (0..n).map(|j| (j, pattern.col_ptr[j]..pattern.col_ptr[j + 1]));
+    // (`None` only past 32 bits, which the pattern excludes.)
+    let (row_ptr, mut by_row) = by_rows(n, columns, &pattern.row_idx).unwrap_or_default();
+    for (_, k) in &mut by_row {
+        *k = from[*k as usize] as u32;
     }
     (row_ptr, by_row)
 }

@@ -86,11 +86,12 @@ impl Rows {
 }
 
 /// Rows' starts and their entries `(column, index)`, as [`Rows`] holds them.
-type ByRows = (Vec<usize>, Vec<(u32, u32)>);
+pub(super) type ByRows = (Vec<usize>, Vec<(u32, u32)>);
 
 /// The entries of `columns` (each a column and its range in `idx`, which
-/// holds the entries' rows), row by row in the order the columns come.
-fn by_rows(
+/// holds the entries' rows), row by row in the order the columns come:
+/// `(column, index into idx)`; None if an index does not fit in 32 bits.
+pub(super) fn by_rows(
     n: usize,
     columns: impl Iterator<Item = (usize, std::ops::Range<usize>)> + Clone,
     idx: &[usize],
