@@ -183,14 +183,14 @@ impl Workspace {
             }
         }
         for_each_element(&p.model, &p.layout, st, |_, w| {
-            elem = elem.max(w.g.norm() + w.m.norm() / l);
+            elem = elem.max(w.size(l));
             add(w, 1.0, r, a, tangent, scale, &mut inside);
         })?;
         *element_scale = elem;
         *load_scale = 0.0;
         for ld in loads {
             if let Some(w) = point_load(&p.model, &p.layout, st, ld) {
-                *load_scale = load_scale.max(w.g.norm() + w.m.norm() / l);
+                *load_scale = load_scale.max(w.size(l));
                 add(&w, 1.0, r, a, tangent, scale, &mut inside);
             }
         }
@@ -329,7 +329,7 @@ impl Workspace {
         let mut big = 0.0f64;
         for ld in new {
             if let Some(w) = point_load(&p.model, &p.layout, st, ld) {
-                big = big.max(w.g.norm() + w.m.norm() / l);
+                big = big.max(w.size(l));
                 w.each_force(|i, v| r[i] += v * scale[i]);
             }
         }

@@ -224,6 +224,12 @@ impl Wrench {
         (full(&|k| self.dr_i_block(k)), full(&|k| self.drho_block(k)))
     }
 
+    /// Its size as a force: the force plus the torque over `length` (N),
+    /// what the force scales of [`super::assembly::Workspace`] compare.
+    pub fn size(&self, length: f64) -> f64 {
+        self.g.norm() + self.m.norm() / length
+    }
+
     /// The generalised force on `[I; J]`.
     pub fn generalized(&self) -> V12 {
         let mut q = V12::zeros();
