@@ -1,7 +1,7 @@
 //! How close the Newton matrix is to singular, cheaply: the estimates that
 //! decide when the exact SVD test of [`super::newton::singular_direction`]
 //! must run, and when the factorisation of a nearby matrix may stand for
-//! the equilibrium's ([`super::finish`]).
+//! the equilibrium's ([`super::isolation`]).
 //!
 //! The Newton matrix is the saddle point `[K Cᵀ; C 0]` of the scaled
 //! stiffness `K` (forces per length) and the constraint gradients `C`

@@ -5,8 +5,9 @@
 //! Layout: [`coords`] (6 coordinates per moving part, rotation increments by
 //! Rodrigues), [`wrench`] (the one generalised-force shape every element reduces
 //! to), [`constraint`] (joint primitives), [`forces`] (bushings, springs, stops,
-//! loads), [`redundancy`], [`newton`], [`mobility`], [`compliance`], [`path`] (the
-//! one load-path simulator), [`sensitivity`] (derivatives of equilibria).
+//! loads), [`redundancy`], [`newton`], [`isolation`] (whether an equilibrium is
+//! isolated), [`mobility`], [`compliance`], [`path`] (the one load-path
+//! simulator), [`sensitivity`] (derivatives of equilibria).
 
 pub mod assembly;
 pub mod batch;
@@ -19,6 +20,7 @@ pub mod error;
 mod extrapolation;
 pub mod forces;
 pub mod friction;
+mod isolation;
 mod linear;
 mod live;
 pub mod mobility;
@@ -47,6 +49,7 @@ use crate::model::{ElementId, JointId, LoadSetId, Model, PointLoad};
 use assembly::{assemble, errors};
 use constraint::Equation;
 use coords::Layout;
+use isolation::CHECK_SINGULAR_BELOW;
 use newton::{Failure, Homotopy, Solver, newton};
 use redundancy::{independence, scaled_jacobian};
 
@@ -366,32 +369,6 @@ pub(crate) fn solve_reusing(
     Ok(eq)
 }
 
-/// Below this estimate of the Newton matrix's reciprocal condition (its
-/// multipliers weighed as stiffnesses, [`condition`]) the exact
-/// singular-value test runs, on the matrix weighed the same way; it flags
-/// at `1e-12`, so the estimate (from above, within 1.3 of the ratio on a
-/// mechanism's matrices, `condition`'s test) has two orders of magnitude of
-/// margin. The McPherson example's matrices are near `2.5e-6`, the car's
-/// near `1.4e-7` (unweighed: `1e-7` and `4.8e-10`).
-const CHECK_SINGULAR_BELOW: f64 = 1e-10;
-
-/// How far (`‖D⁻¹ A_f⁻¹ (A - A_f) D‖`, `D` the weights of [`condition`],
-/// [`tangent::Factorisation::perturbation`]) the matrix `A_f` of the last
-/// Newton iteration may be from the equilibrium's `A` for its condition
-/// estimate to stand for `A`'s, and the factor the estimate is taken over.
-/// The estimate (power steps) follows the dominant eigenvalue, not the
-/// norm, which may be larger: up to 18 times on random perturbations of a
-/// McPherson KKT matrix (`sparse::tests`). At the limit `A` keeps at least
-/// half of `A_f`'s smallest singular value. Most equilibria need neither
-/// this nor a factorisation: their distance to `A_f` is below the weighed
-/// condition estimate (474 of the 500 cases of the random McPherson path,
-/// every case of the car's front bump sweep, at most 7.5e-8 against
-/// 1.35e-7); the other 26 McPherson cases are within this limit (7e-4 to
-/// 8e-3). The car's case from design is not (3.4e-2 after three steps)
-/// and is factorised at its end.
-pub(crate) const STAND_IN: f64 = 0.01;
-pub(crate) const STAND_IN_MARGIN: f64 = 50.0;
-
 /// Checks the equilibrium is isolated and the left-out redundant equations
 /// hold, and collects the reactions. `sv.ws` holds the residual and Newton
 /// matrix at `state`; `sv.lu` factorises the matrix of the last Newton
@@ -404,38 +381,8 @@ fn finish(
     sv: &mut Solver,
 ) -> Result<Equilibrium, StaticsError> {
     let (ef, ec) = sv.ws.errors(p);
-    // A load that happens not to excite a free motion still converges; the
-    // equilibrium is then not unique, which is an error, not a result.
-    // The last iteration's factorisation of `A_f` stands for the
-    // equilibrium's matrix `A` when it shows `A` regular, by either bound:
-    // `σ_min` moves by at most `‖A - A_f‖` (the relative distance, one pass
-    // over the matrix; both weighed as in `condition`, where the estimate
-    // measures the softest motion against the stiffest element and the
-    // bound rarely fails), or, when that bound is too coarse (a matrix whose
-    // stiff entries moved by more than its softest direction's `σ_min`),
-    // `A = A_f (I + E)` with a small `E` and `σ_min(A) ≥ (1 - ‖E‖)
-    // σ_min(A_f)`, `‖E‖` estimated by two power steps (two solves, an
-    // understatement, see `STAND_IN`) and taken `STAND_IN_MARGIN` times
-    // over. Otherwise (or when the last step converged at once: the
-    // multipliers changed from zero, say) `A` is factorised. The condition
-    // estimate costs two inverse iterations, once per factorisation.
-    let mut rcond = if sv.factored {
-        sv.reciprocal_condition()
-    } else {
-        0.0
-    };
-    if sv.factored && rcond - sv.lu.distance_to(&sv.ws.a) < CHECK_SINGULAR_BELOW {
-        let delta = sv.lu.perturbation(&sv.ws.a);
-        rcond = if delta <= STAND_IN {
-            rcond * (1.0 - STAND_IN_MARGIN * delta)
-        } else {
-            0.0
-        };
-    }
-    if rcond < CHECK_SINGULAR_BELOW {
-        sv.factor_matrix();
-        rcond = sv.reciprocal_condition();
-    }
+    // A free motion at equilibrium is an error, not a result (`isolation`).
+    let rcond = isolation::equilibrium_condition(sv);
     if rcond < CHECK_SINGULAR_BELOW
         && let Some(e) = newton::singular_direction(p, &sv.ws.matrix())
     {

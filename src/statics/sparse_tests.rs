@@ -124,8 +124,8 @@ fn sparse_lu_solves_kkt_matrices_as_the_dense_lu() {
 /// (`E = -e_j e_jᵀ` exactly), whatever the column.
 #[test]
 fn perturbation_estimates_the_distance_to_a_factorised_matrix() {
+    use crate::statics::isolation::{STAND_IN, STAND_IN_MARGIN};
     use crate::statics::tangent::{Factorisation, NewtonMatrix};
-    use crate::statics::{STAND_IN, STAND_IN_MARGIN};
     let mut accepted = 0;
     let storages = |pat: &Arc<Pattern>, v: &[f64]| {
         let d = dense(pat, v);

@@ -253,10 +253,10 @@ impl Factorisation {
     /// ([`super::condition`]) and `b`: two steps of the power method from
     /// the irregular start of the condition estimate (two solves), a lower
     /// bound that follows the dominant eigenvalue of `E` and may understate
-    /// its norm (see [`super::STAND_IN`]). A singular `B` has an eigenvalue
+    /// its norm (see [`super::isolation::STAND_IN`]). A singular `B` has an eigenvalue
     /// `-1` of `E`. With `‖E‖ < 1`, `D B D = D A D (I + E)` is regular and
     /// `σ_min(D B D) ≥ (1 - ‖E‖) σ_min(D A D)`: how a factorisation of a
-    /// nearby matrix stands for `b` ([`super::finish`]). Infinite without a
+    /// nearby matrix stands for `b` ([`super::isolation`]). Infinite without a
     /// factorisation or for a matrix in the other storage.
     pub fn perturbation(&mut self, b: &NewtonMatrix) -> f64 {
         let n = self.dim();
