@@ -64,26 +64,44 @@ pub(crate) const PERTURBATION_WITHIN: f64 = 4.0;
 /// matrix (`sv.ws.a`), from the last Newton iteration's factorisation
 /// (`sv.lu`, when `sv.factored`) if it may stand for it, otherwise from a
 /// factorisation of the matrix itself, which `sv.lu` then holds.
-pub(crate) fn equilibrium_condition(sv: &mut Solver) -> f64 {
-    let mut rcond = if sv.factored {
-        sv.reciprocal_condition()
+///
+/// `guess`: an estimate of the problem's condition (its design matrix's,
+/// [`super::sparse::Pivots::rcond`]), which stands for `A_f`'s until that
+/// is computed: a distance beyond [`PERTURBATION_WITHIN`] times the guess
+/// goes to the factorisation at once, without `A_f`'s estimate (two more
+/// solves). The guess only chooses the way; every verdict is an estimate
+/// of the matrix judged. A guess too low factorises where `A_f` might
+/// have stood in; too high, it costs the two solves it was to save.
+pub(crate) fn equilibrium_condition(sv: &mut Solver, guess: Option<f64>) -> f64 {
+    let dist = if sv.factored {
+        sv.lu.distance_to(&sv.ws.a)
     } else {
-        0.0
+        f64::INFINITY
     };
-    if sv.factored {
-        let dist = sv.lu.distance_to(&sv.ws.a);
+    let hopeless = |rcond: f64| !(dist <= PERTURBATION_WITHIN * rcond);
+    let guessed = sv.factored
+        && sv
+            .known_condition()
+            .or(guess)
+            .is_some_and(|g| g > 0.0 && hopeless(g));
+    let mut rcond = 0.0;
+    if guessed {
+        #[cfg(test)]
+        tests::record_skipped(sv);
+    } else if sv.factored {
+        rcond = sv.reciprocal_condition();
         if rcond - dist < CHECK_SINGULAR_BELOW {
-            rcond = if dist <= PERTURBATION_WITHIN * rcond {
+            rcond = if hopeless(rcond) {
+                #[cfg(test)]
+                tests::record_skipped(sv);
+                0.0
+            } else {
                 let delta = sv.lu.perturbation(&sv.ws.a);
                 if delta <= STAND_IN {
                     rcond * (1.0 - STAND_IN_MARGIN * delta)
                 } else {
                     0.0
                 }
-            } else {
-                #[cfg(test)]
-                tests::record_skipped(sv);
-                0.0
             };
         }
     }
@@ -103,14 +121,16 @@ mod tests {
     use std::cell::RefCell;
 
     thread_local! {
-        /// The `‖E‖` estimates skipped on this thread, computed anyway.
-        static SKIPPED: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
+        /// For each `A_f` passed over: its distance bound (`rcond - dist`,
+        /// computed anyway) and the estimate of `‖E‖` skipped.
+        static SKIPPED: RefCell<Vec<(f64, f64)>> = const { RefCell::new(Vec::new()) };
     }
 
-    /// Computes the estimate the rule skipped (it reads the factors only).
+    /// Computes what the rule skipped (it reads the factors only).
     pub(super) fn record_skipped(sv: &mut Solver) {
+        let bound = sv.reciprocal_condition() - sv.lu.distance_to(&sv.ws.a);
         let delta = sv.lu.perturbation(&sv.ws.a);
-        SKIPPED.with(|s| s.borrow_mut().push(delta));
+        SKIPPED.with(|s| s.borrow_mut().push((bound, delta)));
     }
 
     fn example(name: &str, text: &str) -> crate::model::Model {
@@ -118,10 +138,12 @@ mod tests {
         c.model.expect("the example checks")
     }
 
-    /// The estimate of `‖E‖` is skipped only where it would have refused
-    /// to stand in: on the twist beam's load sets and the car's curb and
-    /// laden cases from new solvers (where the rule skips it, so the test
-    /// fails without the rule), every skipped estimate exceeds `STAND_IN`.
+    /// `A_f` is passed over only where it could not have stood in: on the
+    /// twist beam's load sets and the car's curb and laden cases from new
+    /// solvers (where the rule skips, so the test fails without it), for
+    /// every `A_f` passed over (by its own estimate or the problem's
+    /// guess) the distance bound fails and the estimate of `‖E‖` exceeds
+    /// `STAND_IN`.
     #[test]
     fn the_skipped_perturbation_estimates_would_have_refused() {
         let beam = example(
@@ -140,7 +162,11 @@ mod tests {
         solve_case(&p, &cases[1], &curb.state).expect("solves");
         let skipped = SKIPPED.with(|s| s.take());
         assert!(skipped.len() >= 5, "skipped {}", skipped.len());
-        for delta in skipped {
+        for (bound, delta) in skipped {
+            assert!(
+                bound < CHECK_SINGULAR_BELOW,
+                "the distance bound would hold: {bound:e}"
+            );
             assert!(
                 delta > STAND_IN,
                 "a skipped estimate would stand in: {delta:e}"

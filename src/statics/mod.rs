@@ -382,7 +382,12 @@ fn finish(
 ) -> Result<Equilibrium, StaticsError> {
     let (ef, ec) = sv.ws.errors(p);
     // A free motion at equilibrium is an error, not a result (`isolation`).
-    let rcond = isolation::equilibrium_condition(sv);
+    let guess = p
+        .pattern
+        .as_ref()
+        .and_then(|pat| pat.pivots.get()?.as_ref())
+        .map(|pv| pv.rcond);
+    let rcond = isolation::equilibrium_condition(sv, guess);
     if rcond < CHECK_SINGULAR_BELOW
         && let Some(e) = newton::singular_direction(p, &sv.ws.matrix())
     {

@@ -124,6 +124,11 @@ impl Solver {
             .get_or_insert_with(|| self.lu.reciprocal_condition())
     }
 
+    /// The estimate of [`Self::reciprocal_condition`], if computed already.
+    pub fn known_condition(&self) -> Option<f64> {
+        self.rcond
+    }
+
     /// The workspace's matrix factorised again with fresh pivots when the
     /// last factorisation reused earlier ones ([`Factorisation::factor_afresh`]).
     fn factor_afresh(&mut self) -> Option<bool> {

@@ -49,6 +49,10 @@ pub(crate) struct Pivots {
     plan: Arc<Plan>,
     row_perm: Vec<usize>,
     row_perm_inv: Vec<usize>,
+    /// The reciprocal condition estimate of the matrix they factorised
+    /// ([`SparseLu::reciprocal_condition`]): a guess at the problem's
+    /// ([`super::isolation`]).
+    pub rcond: f64,
 }
 
 impl Pivots {
@@ -142,9 +146,13 @@ impl SparseLu {
     }
 
     /// The pivots of the last factorisation, if it succeeded and has a
-    /// plan to refactorise with.
-    pub fn pivots(&self) -> Option<Pivots> {
-        (self.valid && self.reusable).then(|| Pivots {
+    /// plan to refactorise with, and its condition estimate.
+    pub fn pivots(&mut self) -> Option<Pivots> {
+        if !(self.valid && self.reusable) {
+            return None;
+        }
+        Some(Pivots {
+            rcond: self.reciprocal_condition(),
             live: self.live.clone(),
             own: self.own.clone(),
             plan: self.plan.clone(),
