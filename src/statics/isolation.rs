@@ -78,7 +78,8 @@ pub(crate) fn equilibrium_condition(sv: &mut Solver, guess: Option<f64>) -> f64 
     } else {
         f64::INFINITY
     };
-    let hopeless = |rcond: f64| !(dist <= PERTURBATION_WITHIN * rcond);
+    // (A distance that is not a number stands for nothing.)
+    let hopeless = |rcond: f64| dist.is_nan() || dist > PERTURBATION_WITHIN * rcond;
     let guessed = sv.factored
         && sv
             .known_condition()
