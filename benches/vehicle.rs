@@ -139,40 +139,25 @@ fn with_sweep_100(base: &Model) -> (Model, LoadSetId) {
     (m, id)
 }
 
-/// The curb case from the design configuration (`Problem` compiled once).
-#[divan::bench]
-fn one_case_from_design(b: Bencher) {
-    let m = vehicle();
+/// The example (27 moving parts) or the car of 35 parts.
+fn car(parts: usize) -> Model {
+    if parts == 35 { vehicle_35() } else { vehicle() }
+}
+
+/// The curb case from the design configuration (`Problem` compiled once),
+/// on the example and on the car of 35 parts.
+#[divan::bench(args = [27, 35])]
+fn one_case_from_design(b: Bencher, parts: usize) {
+    let m = car(parts);
     let p = Problem::new(&m).expect("problem");
     let (curb, design) = (case(&m, 0), State::design(&m));
     b.bench_local(|| solve_case(&p, &curb, &design).expect("solves"));
 }
 
 /// The laden case from the curb equilibrium: one step of a path.
-#[divan::bench]
-fn one_case_warm(b: Bencher) {
-    let m = vehicle();
-    let p = Problem::new(&m).expect("problem");
-    let start = solve_case(&p, &case(&m, 0), &State::design(&m))
-        .expect("solves")
-        .state;
-    let laden = case(&m, 1);
-    b.bench_local(|| solve_case(&p, &laden, &start).expect("solves"));
-}
-
-/// `one_case_from_design` on the car of 35 parts.
-#[divan::bench]
-fn one_case_from_design_35_parts(b: Bencher) {
-    let m = vehicle_35();
-    let p = Problem::new(&m).expect("problem");
-    let (curb, design) = (case(&m, 0), State::design(&m));
-    b.bench_local(|| solve_case(&p, &curb, &design).expect("solves"));
-}
-
-/// `one_case_warm` on the car of 35 parts.
-#[divan::bench]
-fn one_case_warm_35_parts(b: Bencher) {
-    let m = vehicle_35();
+#[divan::bench(args = [27, 35])]
+fn one_case_warm(b: Bencher, parts: usize) {
+    let m = car(parts);
     let p = Problem::new(&m).expect("problem");
     let start = solve_case(&p, &case(&m, 0), &State::design(&m))
         .expect("solves")
