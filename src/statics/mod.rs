@@ -3,11 +3,12 @@
 //! from the previous state of a load path, with automatic load sub-stepping.
 //!
 //! Layout: [`coords`] (6 coordinates per moving part, rotation increments by
-//! Rodrigues), [`wrench`] (the one generalised-force shape every element reduces
-//! to), [`constraint`] (joint primitives), [`forces`] (bushings, springs, stops,
-//! loads), [`redundancy`], [`newton`], [`isolation`] (whether an equilibrium is
-//! isolated), [`mobility`], [`compliance`], [`path`] (the one load-path
-//! simulator), [`sensitivity`] (derivatives of equilibria).
+//! Rodrigues), [`wrench`] (the one generalised-force shape every element
+//! reduces to), [`constraint`] (joint primitives), [`forces`] (bushings,
+//! springs, stops, loads), [`redundancy`], [`newton`], `isolation` (whether
+//! an equilibrium is isolated), `failure` (what a solve that failed names),
+//! [`mobility`], [`compliance`], [`path`] (the one load-path simulator),
+//! [`sensitivity`] (derivatives of equilibria).
 
 pub mod assembly;
 pub mod batch;
@@ -18,6 +19,7 @@ pub mod constraint;
 pub mod coords;
 pub mod error;
 mod extrapolation;
+mod failure;
 pub mod forces;
 pub mod friction;
 mod isolation;
@@ -46,7 +48,6 @@ pub use sensitivity::{CaseSensitivity, Parameter};
 
 use crate::geom::Vec3;
 use crate::model::{ElementId, JointId, LoadSetId, Model, PointLoad};
-use assembly::{assemble, errors};
 use constraint::Equation;
 use coords::Layout;
 use isolation::CHECK_SINGULAR_BELOW;
@@ -314,7 +315,7 @@ pub(crate) fn solve_reusing(
     while s < 1.0 {
         if let Some(left) = &mut sv.attempts_left {
             if *left == 0 {
-                return Err(over_budget());
+                return Err(failure::over_budget());
             }
             *left -= 1;
         }
@@ -354,7 +355,7 @@ pub(crate) fn solve_reusing(
                 sv.extrapolation.abandon();
                 ds /= 2.0;
                 if ds < MIN_STEP {
-                    return Err(not_converged(problem, &at, &l, force));
+                    return Err(failure::not_converged(problem, &at, &l, force));
                 }
             }
         }
@@ -447,80 +448,6 @@ fn finish(
         force_scale: sv.ws.force_scale(),
         reactions,
     })
-}
-
-/// The error of a path that used up its budget of load sub-steps: the model
-/// is near a limit of its equilibria there (a caller exploring parameters
-/// takes that as "too far", not as a result).
-fn over_budget() -> StaticsError {
-    StaticsError::new(
-        StaticsErrorKind::NotConverged,
-        vec![],
-        "the load path needed more load sub-steps than its budget: the model is close to a limit of its equilibria here",
-    )
-}
-
-/// The error for a load step that would not converge: the part with the largest
-/// residual and the element contributing most to it.
-fn not_converged(p: &Problem, st: &State, loads: &[PointLoad], force: f64) -> StaticsError {
-    let detail = "Newton did not converge even with the smallest load sub-step".to_string();
-    let Ok(sys) = assemble(p, st, loads) else {
-        return StaticsError::new(StaticsErrorKind::NotConverged, vec![], detail);
-    };
-    let (ef, ec) = errors(p, &sys, force);
-    let mut elements = Vec::new();
-    // A nearly singular Newton matrix is the usual cause: name its motion first.
-    if let Some((ratio, motion)) = newton::softest_motion(p, &newton::kkt(&sys)) {
-        if ratio < 1e-6 {
-            return StaticsError::new(
-                StaticsErrorKind::NotConverged,
-                std::iter::once(ElementId::Part(motion.part))
-                    .chain(
-                        friction::near_limit(&p.model, &p.layout, st)
-                            .into_iter()
-                            .map(ElementId::Friction),
-                    )
-                    .collect(),
-                format!(
-                    "{detail}: the {} is nearly unrestrained (stiffness ratio {ratio:.1e}) (residual {ef:.2e} of the force scale, {ec:.2e} of the length)",
-                    motion.words
-                ),
-            );
-        }
-    }
-    if ec * force > ef * p.length && !sys.phi.is_empty() {
-        let k = sys.phi.iamax();
-        elements.push(ElementId::Joint(p.equations[p.kept[k]].joint));
-    } else {
-        let c = sys.r.iamax();
-        let part = p.layout.moving[c / 6];
-        elements.push(ElementId::Part(part));
-        let mut best = (0.0, None);
-        if let Ok(ws) = forces::element_wrenches(&p.model, &p.layout, st) {
-            for (id, w) in ws {
-                let mut g = nalgebra::DVector::zeros(p.layout.n());
-                w.add_force(&mut g);
-                if g[c].abs() > best.0 {
-                    best = (g[c].abs(), Some(id));
-                }
-            }
-        }
-        if let (_, Some(id)) = best {
-            elements.push(id);
-        }
-    }
-    // A friction at its limit switches between stick and slip from one
-    // iteration to the next, the usual way a path with friction fails: name it.
-    let slipping = friction::near_limit(&p.model, &p.layout, st);
-    elements.extend(slipping.iter().map(|&f| ElementId::Friction(f)));
-    StaticsError::new(
-        StaticsErrorKind::NotConverged,
-        elements,
-        format!(
-            "{detail} (residual {:.2e} of the force scale, {:.2e} of the length)",
-            ef, ec
-        ),
-    )
 }
 
 /// Solves every case of a load set in order, each from the previous state
