@@ -127,13 +127,30 @@ impl State {
 pub fn rodrigues(th: &Vec3) -> Mat3 {
     let a = th.norm();
     let k = skew(th);
-    // Series near zero keeps the formula accurate where sin(a)/a loses digits.
-    let (s, c) = if a < 1e-6 {
+    let (s, c) = rotation_coefficients(a, a.sin(), a.cos());
+    Mat3::identity() + k * s + k * k * c
+}
+
+/// `sin a / a` and `(1 - cos a) / a²` of [`rodrigues`], given `a`'s sine
+/// and cosine. A series near zero keeps them accurate where `sin(a)/a`
+/// loses digits.
+fn rotation_coefficients(a: f64, sin: f64, cos: f64) -> (f64, f64) {
+    if a < 1e-6 {
         (1.0 - a * a / 6.0, 0.5 - a * a / 24.0)
     } else {
-        (a.sin() / a, (1.0 - a.cos()) / (a * a))
-    };
-    Mat3::identity() + k * s + k * k * c
+        (sin / a, (1.0 - cos) / (a * a))
+    }
+}
+
+/// `(1 - cos a) / a²` and `(a - sin a) / a³` of [`screw_translation`],
+/// given `a`'s sine and cosine (a series below 1e-4, where the second
+/// loses its digits).
+fn translation_coefficients(a: f64, sin: f64, cos: f64) -> (f64, f64) {
+    if a < 1e-4 {
+        (0.5 - a * a / 24.0, 1.0 / 6.0 - a * a / 120.0)
+    } else {
+        ((1.0 - cos) / (a * a), (a - sin) / (a * a * a))
+    }
 }
 
 /// [`rodrigues`] and [`screw_translation`] of one twist, sharing its
@@ -143,16 +160,8 @@ fn screw(th: &Vec3) -> (Mat3, Mat3) {
     let k = skew(th);
     let kk = k * k;
     let (sin, cos) = a.sin_cos();
-    let (s, c) = if a < 1e-6 {
-        (1.0 - a * a / 6.0, 0.5 - a * a / 24.0)
-    } else {
-        (sin / a, (1.0 - cos) / (a * a))
-    };
-    let (c1, c2) = if a < 1e-4 {
-        (0.5 - a * a / 24.0, 1.0 / 6.0 - a * a / 120.0)
-    } else {
-        ((1.0 - cos) / (a * a), (a - sin) / (a * a * a))
-    };
+    let (s, c) = rotation_coefficients(a, sin, cos);
+    let (c1, c2) = translation_coefficients(a, sin, cos);
     (
         Mat3::identity() + k * s + kk * c,
         Mat3::identity() + k * c1 + kk * c2,
@@ -165,11 +174,7 @@ fn screw(th: &Vec3) -> (Mat3, Mat3) {
 pub fn screw_translation(th: &Vec3) -> Mat3 {
     let a = th.norm();
     let k = skew(th);
-    let (c1, c2) = if a < 1e-4 {
-        (0.5 - a * a / 24.0, 1.0 / 6.0 - a * a / 120.0)
-    } else {
-        ((1.0 - a.cos()) / (a * a), (a - a.sin()) / (a * a * a))
-    };
+    let (c1, c2) = translation_coefficients(a, a.sin(), a.cos());
     Mat3::identity() + k * c1 + k * k * c2
 }
 
