@@ -83,19 +83,17 @@ impl Live {
         }
     }
 
-    /// `A x - b` into `out` for the matrix `A` of `values` (in the full
-    /// pattern's slots) on these slots, and the largest magnitude of its
-    /// entries (a NaN passed over, as by `f64::max`). Row by row: a
-    /// column-wise product adds into `out` through memory, a chain of
-    /// dependent loads and stores per row.
-    pub fn residual(&self, values: &[f64], x: &[f64], b: &[f64], out: &mut [f64]) -> f64 {
+    /// The largest magnitude of the entries of `A x - b`, for the matrix
+    /// `A` of `values` (in the full pattern's slots) on these slots (a NaN
+    /// passed over, as by `f64::max`). Row by row: a column-wise product
+    /// adds into memory, a chain of dependent loads and stores per row.
+    pub fn residual(&self, values: &[f64], x: &[f64], b: &[f64]) -> f64 {
         let mut big = 0.0f64;
-        for (i, (o, bi)) in out.iter_mut().zip(b).enumerate() {
+        for (i, bi) in b.iter().enumerate() {
             let mut acc = -bi;
             for &(j, k) in &self.by_row[self.row_ptr[i]..self.row_ptr[i + 1]] {
                 acc += values[k as usize] * x[j as usize];
             }
-            *o = acc;
             big = if acc.abs() > big { acc.abs() } else { big };
         }
         big

@@ -93,9 +93,8 @@ pub(crate) struct SparseLu {
     /// Fresh factorisations and refactorisations with the previous pivots.
     pub fresh: usize,
     pub reused: usize,
-    /// A dense vector, zero between uses.
+    /// The substitutions' vector, in pivot order (overwritten by each solve).
     work: Vec<f64>,
-    res: Vec<f64>,
 }
 
 impl SparseLu {
@@ -125,7 +124,6 @@ impl SparseLu {
             fresh: 0,
             reused: 0,
             work: vec![0.0; n],
-            res: vec![0.0; n],
         };
         if let Some(pv) = start {
             (lu.own, lu.plan) = (pv.own, pv.plan);
@@ -295,7 +293,7 @@ impl SparseLu {
         }
         let x_max = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let b_max = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let r = self.live.residual(values, x, b, &mut self.res);
+        let r = self.live.residual(values, x, b);
         r <= 1e-8 * (b_max + self.a_max * x_max)
     }
 
