@@ -19,6 +19,7 @@
 //! multipliers changed from zero, say) `A` is factorised. The condition
 //! estimate costs two inverse iterations, once per factorisation.
 
+use super::Problem;
 use super::newton::Solver;
 
 /// Below this estimate of the Newton matrix's reciprocal condition (its
@@ -65,14 +66,20 @@ pub(crate) const PERTURBATION_WITHIN: f64 = 4.0;
 /// (`sv.lu`, when `sv.factored`) if it may stand for it, otherwise from a
 /// factorisation of the matrix itself, which `sv.lu` then holds.
 ///
-/// `guess`: an estimate of the problem's condition (its design matrix's,
-/// [`super::sparse::Pivots::rcond`]), which stands for `A_f`'s until that
-/// is computed: a distance beyond [`PERTURBATION_WITHIN`] times the guess
-/// goes to the factorisation at once, without `A_f`'s estimate (two more
-/// solves). The guess only chooses the way; every verdict is an estimate
-/// of the matrix judged. A guess too low factorises where `A_f` might
-/// have stood in; too high, it costs the two solves it was to save.
-pub(crate) fn equilibrium_condition(sv: &mut Solver, guess: Option<f64>) -> f64 {
+/// The problem's design condition (its seed pivots' estimate,
+/// [`super::sparse::Pivots::rcond`]; none on the dense path) is a guess
+/// that stands for `A_f`'s estimate until that is computed: a distance
+/// beyond [`PERTURBATION_WITHIN`] times the guess goes to the
+/// factorisation at once, without `A_f`'s estimate (two more solves). The
+/// guess only chooses the way; every verdict is an estimate of the matrix
+/// judged. A guess too low factorises where `A_f` might have stood in;
+/// too high, it costs the two solves it was to save.
+pub(crate) fn equilibrium_condition(p: &Problem, sv: &mut Solver) -> f64 {
+    let guess = p
+        .pattern
+        .as_ref()
+        .and_then(|pat| pat.pivots.get()?.as_ref())
+        .map(|pv| pv.rcond);
     let dist = if sv.factored {
         sv.lu.distance_to(&sv.ws.a)
     } else {
@@ -117,7 +124,6 @@ pub(crate) fn equilibrium_condition(sv: &mut Solver, guess: Option<f64>) -> f64 
 mod tests {
     use super::*;
     use crate::model::LoadSetId;
-    use crate::statics::Problem;
     use crate::statics::path::{set_loads, solve_case, solve_path};
     use std::cell::RefCell;
 

@@ -383,12 +383,7 @@ fn finish(
 ) -> Result<Equilibrium, StaticsError> {
     let (ef, ec) = sv.ws.errors(p);
     // A free motion at equilibrium is an error, not a result (`isolation`).
-    let guess = p
-        .pattern
-        .as_ref()
-        .and_then(|pat| pat.pivots.get()?.as_ref())
-        .map(|pv| pv.rcond);
-    let rcond = isolation::equilibrium_condition(sv, guess);
+    let rcond = isolation::equilibrium_condition(p, sv);
     if rcond < CHECK_SINGULAR_BELOW
         && let Some(e) = newton::singular_direction(p, &sv.ws.matrix())
     {
