@@ -150,6 +150,73 @@ fn fmt_killed_during_its_write_leaves_the_source_whole() {
     assert_eq!(std::fs::read_to_string(&src).expect("source"), text);
 }
 
+/// `solve --format json` writes a long path while it solves it (in pieces,
+/// not as one text at the end), through the same atomic write: the file
+/// is whole, the same as stdout, no temporary file is left, and a write
+/// killed after its first pieces (the file-size limit, SIGXFSZ) leaves the
+/// old file whole.
+#[cfg(unix)]
+#[test]
+fn a_long_path_written_as_it_is_solved_replaces_its_output_whole() {
+    let dir = folder("streamed");
+    let mut loads = String::from("step,fx,fy,fz\n");
+    for k in 0..60 {
+        loads += &format!("{},0,{},{}\n", k + 1, 20 * k, 2000 + 50 * k);
+    }
+    std::fs::write(dir.join("loads.csv"), loads).expect("loads");
+    let out = dir.join("out.json");
+    std::fs::write(&out, "keep me\n").expect("write");
+    let args = |o: &str| {
+        let (m, l) = (dir.join("m.axle"), dir.join("loads.csv"));
+        format!(
+            "'{}' solve '{}' --loads '{}' --format json -o '{o}'",
+            env!("CARGO_BIN_EXE_axle"),
+            s(&m),
+            s(&l)
+        )
+    };
+    // 200 blocks of 512 bytes: room for three of the 64 KiB pieces, not for
+    // the document of about 400 KiB.
+    let status = Command::new("sh")
+        .arg("-c")
+        .arg(format!("ulimit -f 200; exec {}", args(s(&out))))
+        .stderr(Stdio::null())
+        .status()
+        .expect("sh runs");
+    assert!(!status.success());
+    assert_eq!(std::fs::read_to_string(&out).expect("kept"), "keep me\n");
+    // A kill runs no clean-up: the killed run's temporary file (named by its
+    // process, so no other run meets it) is left beside the target.
+    let temporary = || -> Vec<PathBuf> {
+        let entries = std::fs::read_dir(&dir).expect("folder");
+        let paths = entries.map(|e| e.expect("entry").path());
+        paths.filter(|p| s(p).ends_with(".axle-tmp")).collect()
+    };
+    let killed = temporary();
+    assert_eq!(killed.len(), 1, "{killed:?}");
+    std::fs::remove_file(&killed[0]).expect("removed");
+    let (code, stdout, stderr) = axle(&[
+        "solve",
+        s(&dir.join("m.axle")),
+        "--loads",
+        s(&dir.join("loads.csv")),
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.len() > 300_000, "{} bytes", stdout.len());
+    let doc: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON document");
+    assert_eq!(doc["cases"].as_array().map(Vec::len), Some(60));
+    let status = Command::new("sh")
+        .arg("-c")
+        .arg(format!("exec {}", args(s(&out))))
+        .status()
+        .expect("sh runs");
+    assert!(status.success());
+    assert_eq!(std::fs::read_to_string(&out).expect("written"), stdout);
+    assert_eq!(temporary(), Vec::<PathBuf>::new());
+}
+
 fn run_with(args: &[&str], stdin: &[u8], stdout: Stdio) -> (Option<i32>, String, String) {
     use std::io::Write;
     let mut child = Command::new(env!("CARGO_BIN_EXE_axle"))

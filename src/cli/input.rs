@@ -74,9 +74,21 @@ pub fn solve_reporting(
     problem: &crate::statics::Problem,
     set: LoadSetId,
 ) -> Solved {
+    solve_reporting_each(loaded, problem, set, |_, _| {})
+}
+
+/// As [`solve_reporting`], handing each converged case to `each` as it is
+/// solved.
+pub fn solve_reporting_each(
+    loaded: &Loaded,
+    problem: &crate::statics::Problem,
+    set: LoadSetId,
+    each: impl FnMut(usize, &crate::statics::Equilibrium),
+) -> Solved {
     let model = &loaded.model;
     let ls = &model.load_sets[set.index()];
-    let run = crate::statics::path::run_set(problem, set, &crate::statics::State::design(model));
+    let design = crate::statics::State::design(model);
+    let run = crate::statics::path::run_set_each(problem, set, &design, each);
     let failed = run.failure.map(|e| {
         let case = ls.cases.get(e.case).map_or("?", |c| c.name.as_str());
         loaded.report(&[e.error.to_diagnostic(model).note(format!(

@@ -1,13 +1,15 @@
 //! `axle solve FILE [--loadcases SET | --loads CSV] [--format …] [-o OUT] [--trim …]`.
 
 use super::input::{Loaded, emit, load_model, pick_set_reported};
+use super::write::{Stream, Target, reported};
 use super::{Exit, OutFormat};
 use crate::diagnostic::Diagnostic;
 use crate::kc::kc_rows;
 use crate::model::LoadSetId;
-use crate::output::report::{CaseReport, Reporter};
+use crate::output::report::{CaseReport, FailedCase, Reporter};
+use crate::output::solve_json::SolveDocument;
 use crate::output::warning;
-use crate::output::{kc_table, parts_csv, solve_json, solve_table};
+use crate::output::{kc_table, parts_csv, solve_table};
 use crate::statics::Problem;
 use std::path::PathBuf;
 
@@ -67,6 +69,9 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
         Exit::Input
     };
     let problem = Problem::new(model).map_err(|e| fail(e.to_diagnostic(model)))?;
+    if args.format == OutFormat::Json {
+        return Ok(stream_json(&loaded, &problem, set, args, trim.as_ref()));
+    }
     let ls = &model.load_sets[set.index()];
     let solved = super::input::solve_reporting(&loaded, &problem, set);
     let (eqs, failed) = (&solved.eqs, solved.failed.as_ref());
@@ -78,28 +83,12 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
         .map(|(k, (eq, c))| reporter.case(&c.name, k + 1, eq))
         .collect();
     let names: Vec<String> = ls.cases.iter().map(|c| c.name.clone()).collect();
-    // The cases after a failed one, never tried (no stale pose is printed).
-    let not_solved: Vec<(String, usize)> = match failed {
-        Some(f) => names
-            .iter()
-            .enumerate()
-            .skip(f.step)
-            .map(|(k, n)| (n.clone(), k + 1))
-            .collect(),
-        None => Vec::new(),
-    };
+    let not_solved = failed.map_or(Vec::new(), |f| not_solved(&names, f));
     loaded.report(&warning::of_path(model, &names, eqs));
 
     let text = match args.format {
-        OutFormat::Json => solve_json::solve(
-            &model.name,
-            &ls.name,
-            &reports,
-            failed,
-            failed.map(|_| not_solved.as_slice()),
-            trim.as_ref().map(|t| &t.json),
-        ),
-        OutFormat::Table => {
+        // (JSON was written as it was solved, `stream_json`.)
+        OutFormat::Table | OutFormat::Json => {
             let head = trim
                 .as_ref()
                 .map_or(String::new(), |t| format!("{}\n", t.line));
@@ -118,5 +107,63 @@ fn solve(args: &Args) -> Result<Exit, Exit> {
         // The converged cases are written; the failing one was reported.
         Exit::Ok if failed.is_some() => Ok(Exit::Input),
         e => Ok(e),
+    }
+}
+
+/// The cases after a failed one, never tried (no stale pose is printed):
+/// name and step.
+fn not_solved(names: &[String], failed: &FailedCase) -> Vec<(String, usize)> {
+    let rest = names.iter().enumerate().skip(failed.step);
+    rest.map(|(k, n)| (n.clone(), k + 1)).collect()
+}
+
+/// How much of the JSON document is made before it is written out.
+const JSON_PIECE: usize = 1 << 16;
+
+/// `solve --format json`: each case written as it is solved (a long load
+/// path neither holds its reports nor the whole text), then the failing
+/// case, the cases not solved and the trim. The output is opened before the
+/// solve, so a target that cannot be written costs no solve.
+fn stream_json(
+    loaded: &super::input::Loaded,
+    problem: &Problem,
+    set: LoadSetId,
+    args: &Args,
+    trim: Option<&super::trim::TrimReport>,
+) -> Exit {
+    let (model, target) = (&loaded.model, Target::from_option(args.output.as_deref()));
+    let mut out = match Stream::open(&target) {
+        Ok(out) => out,
+        Err(e) => return reported(&target, Err(e)),
+    };
+    let ls = &model.load_sets[set.index()];
+    let reporter = Reporter::new(model);
+    let mut doc = SolveDocument::new();
+    // The first write error; nothing more is written after it.
+    let mut written = Ok(());
+    let solved = super::input::solve_reporting_each(loaded, problem, set, |k, eq| {
+        doc.case(&reporter.case(&ls.cases[k].name, k + 1, eq));
+        if doc.pending() >= JSON_PIECE && written.is_ok() {
+            written = doc.drain(|b| out.write(b));
+        }
+    });
+    let names: Vec<String> = ls.cases.iter().map(|c| c.name.clone()).collect();
+    let failed = solved.failed.as_ref();
+    let not_solved = failed.map(|f| not_solved(&names, f));
+    loaded.report(&warning::of_path(model, &names, &solved.eqs));
+    doc.end(
+        &ls.name,
+        &model.name,
+        failed,
+        not_solved.as_deref(),
+        trim.map(|t| &t.json),
+    );
+    let written = written
+        .and_then(|()| doc.drain(|b| out.write(b)))
+        .and_then(|()| out.commit());
+    match reported(&target, written) {
+        // The converged cases are written; the failing one was reported.
+        Exit::Ok if failed.is_some() => Exit::Input,
+        e => e,
     }
 }

@@ -60,7 +60,13 @@ impl std::fmt::Display for WriteError {
 /// Writes `text` to `target`; prints a failure and returns its exit status
 /// (2). A closed stdout pipe (`axle … | head`) exits 2 without a message.
 pub fn emit(target: &Target, text: &str) -> Exit {
-    match (target, write(target, text)) {
+    reported(target, write(target, text))
+}
+
+/// The exit status of a write's outcome, its failure printed as [`emit`]
+/// prints it.
+pub fn reported(target: &Target, written: Result<(), WriteError>) -> Exit {
+    match (target, written) {
         (_, Ok(())) => Exit::Ok,
         (Target::Stdout, Err(WriteError::Io { error, .. }))
             if error.kind() == std::io::ErrorKind::BrokenPipe =>
@@ -76,17 +82,148 @@ pub fn emit(target: &Target, text: &str) -> Exit {
 
 /// Writes `text` to `target` (see the module doc).
 pub fn write(target: &Target, text: &str) -> Result<(), WriteError> {
-    match target {
-        Target::Stdout => {
-            let mut out = std::io::stdout().lock();
-            out.write_all(text.as_bytes())
-                .and_then(|()| out.flush())
-                .map_err(|error| WriteError::Io {
-                    target: "to stdout".into(),
-                    error,
-                })
+    let mut out = Stream::open(target)?;
+    out.write(text.as_bytes())?;
+    out.commit()
+}
+
+/// Results written piece by piece as they are made (`solve --format json`
+/// of a long load path), with the guarantees of [`write`]: a file target is
+/// refused when it is an input, written to a sibling temporary file and
+/// renamed over the target only by [`Stream::commit`]; a stream dropped
+/// uncommitted (an error on the way) removes its temporary file and leaves
+/// the target as it was. Stdout is written as the pieces come.
+pub struct Stream {
+    sink: Sink,
+    /// The target as messages name it.
+    shown: String,
+}
+
+enum Sink {
+    Stdout(std::io::StdoutLock<'static>),
+    File {
+        file: std::fs::File,
+        tmp: PathBuf,
+        real: PathBuf,
+        committed: bool,
+    },
+}
+
+impl Stream {
+    /// Opens `target` for writing (see [`Stream`]).
+    pub fn open(target: &Target) -> Result<Stream, WriteError> {
+        match target {
+            Target::Stdout => Ok(Stream {
+                sink: Sink::Stdout(std::io::stdout().lock()),
+                shown: "to stdout".into(),
+            }),
+            Target::File(path) => {
+                refuse_input(path)?;
+                Stream::open_atomic(path)
+            }
         }
-        Target::File(path) => write_file(path, text.as_bytes()),
+    }
+
+    fn open_atomic(path: &Path) -> Result<Stream, WriteError> {
+        let shown = path.display().to_string();
+        let io = |error| WriteError::Io {
+            target: shown.clone(),
+            error,
+        };
+        let real = match std::fs::symlink_metadata(path) {
+            Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(path).map_err(io)?,
+            _ => path.to_path_buf(),
+        };
+        if real.is_dir() {
+            return Err(io(std::io::Error::new(
+                std::io::ErrorKind::IsADirectory,
+                "it is a folder",
+            )));
+        }
+        // Renaming would replace a read-only file that a plain write may not touch.
+        if std::fs::metadata(&real).is_ok_and(|m| m.permissions().readonly()) {
+            return Err(io(std::io::Error::new(
+                std::io::ErrorKind::PermissionDenied,
+                "the file is read-only",
+            )));
+        }
+        let dir = match real.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        let name = real
+            .file_name()
+            .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
+        let tmp = dir.join(format!(".{name}.{}.axle-tmp", std::process::id()));
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+            .map_err(io)?;
+        Ok(Stream {
+            sink: Sink::File {
+                file,
+                tmp,
+                real,
+                committed: false,
+            },
+            shown,
+        })
+    }
+
+    fn error(&self, error: std::io::Error) -> WriteError {
+        WriteError::Io {
+            target: self.shown.clone(),
+            error,
+        }
+    }
+
+    /// Writes the next piece.
+    pub fn write(&mut self, bytes: &[u8]) -> Result<(), WriteError> {
+        let written = match &mut self.sink {
+            Sink::Stdout(out) => out.write_all(bytes),
+            Sink::File { file, .. } => file.write_all(bytes),
+        };
+        written.map_err(|e| self.error(e))
+    }
+
+    /// Ends the output: stdout flushed; a file synced, given the
+    /// permissions of the file it replaces, and renamed over it.
+    pub fn commit(mut self) -> Result<(), WriteError> {
+        let done = match &mut self.sink {
+            Sink::Stdout(out) => out.flush(),
+            Sink::File {
+                file,
+                tmp,
+                real,
+                committed,
+            } => file
+                .flush()
+                .and_then(|()| file.sync_all())
+                .and_then(|()| match std::fs::metadata(&*real) {
+                    // A file replaced keeps its permissions (a read-only deck
+                    // stays read-only).
+                    Ok(m) => file.set_permissions(m.permissions()),
+                    Err(_) => Ok(()),
+                })
+                .and_then(|()| std::fs::rename(&*tmp, &*real))
+                .map(|()| *committed = true),
+        };
+        done.map_err(|e| self.error(e))
+    }
+}
+
+impl Drop for Stream {
+    fn drop(&mut self) {
+        if let Sink::File {
+            tmp,
+            committed: false,
+            ..
+        } = &self.sink
+        {
+            // The temporary file is ours alone; the target was never touched.
+            let _ = std::fs::remove_file(tmp);
+        }
     }
 }
 
@@ -125,68 +262,9 @@ pub fn refuse_overlap(inputs: &[&Path], outputs: &[&Path]) -> Result<(), WriteEr
 /// Replaces an input file with new text (`fmt` in place): the same atomic
 /// write, the one case where writing onto an input is the point.
 pub fn replace_input(path: &Path, text: &str) -> Result<(), WriteError> {
-    write_atomic(path, text.as_bytes())
-}
-
-/// The atomic file write: refuse inputs, write a sibling temporary file,
-/// sync, rename over the target (a symbolic link's target is replaced, the
-/// link kept).
-fn write_file(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
-    refuse_input(path)?;
-    write_atomic(path, bytes)
-}
-
-fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
-    let io = |error| WriteError::Io {
-        target: path.display().to_string(),
-        error,
-    };
-    let real = match std::fs::symlink_metadata(path) {
-        Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(path).map_err(io)?,
-        _ => path.to_path_buf(),
-    };
-    if real.is_dir() {
-        return Err(io(std::io::Error::new(
-            std::io::ErrorKind::IsADirectory,
-            "it is a folder",
-        )));
-    }
-    // Renaming would replace a read-only file that a plain write may not touch.
-    if std::fs::metadata(&real).is_ok_and(|m| m.permissions().readonly()) {
-        return Err(io(std::io::Error::new(
-            std::io::ErrorKind::PermissionDenied,
-            "the file is read-only",
-        )));
-    }
-    let dir = match real.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = real
-        .file_name()
-        .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
-    let tmp = dir.join(format!(".{name}.{}.axle-tmp", std::process::id()));
-    let result = write_synced(&tmp, bytes, &real).and_then(|()| std::fs::rename(&tmp, &real));
-    if result.is_err() {
-        // The temporary file is ours alone; the target was never touched.
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.map_err(io)
-}
-
-fn write_synced(tmp: &Path, bytes: &[u8], target: &Path) -> std::io::Result<()> {
-    let mut f = std::fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(tmp)?;
-    f.write_all(bytes)?;
-    f.flush()?;
-    f.sync_all()?;
-    // A file replaced keeps its permissions (a read-only deck stays read-only).
-    if let Ok(m) = std::fs::metadata(target) {
-        f.set_permissions(m.permissions())?;
-    }
-    Ok(())
+    let mut out = Stream::open_atomic(path)?;
+    out.write(text.as_bytes())?;
+    out.commit()
 }
 
 #[cfg(test)]
@@ -214,6 +292,34 @@ mod tests {
         let other = dir.join("other.txt");
         write(&Target::File(other.clone()), "new").expect("written");
         assert_eq!(std::fs::read_to_string(&other).expect("read"), "new");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// A stream dropped before its commit (an error on the way) leaves the
+    /// target as it was and no temporary file; committed, it replaces it.
+    #[test]
+    fn a_stream_replaces_its_target_only_when_committed() {
+        let dir = std::env::temp_dir().join(format!("axle-stream-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let target = dir.join("out.json");
+        std::fs::write(&target, "old\n").expect("write");
+        let files = || std::fs::read_dir(&dir).expect("dir").count();
+        let mut out = Stream::open(&Target::File(target.clone())).expect("opens");
+        out.write(b"half of a ").expect("written");
+        assert_eq!(files(), 2);
+        drop(out);
+        assert_eq!(std::fs::read_to_string(&target).expect("read"), "old\n");
+        assert_eq!(files(), 1);
+        let mut out = Stream::open(&Target::File(target.clone())).expect("opens");
+        for piece in ["new ", "text\n"] {
+            out.write(piece.as_bytes()).expect("written");
+        }
+        out.commit().expect("committed");
+        assert_eq!(
+            std::fs::read_to_string(&target).expect("read"),
+            "new text\n"
+        );
+        assert_eq!(files(), 1);
         std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -89,10 +89,36 @@ impl Json {
 
     /// The document with its final newline.
     pub fn finish(mut self) -> String {
-        self.out.push(b'\n');
+        self.end_document();
+        self.into_text()
+    }
+
+    /// The bytes not yet drained, as text.
+    pub fn into_text(self) -> String {
         // Every write is a `&str`, an ASCII byte or a number's ASCII digits.
         String::from_utf8(self.out)
             .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
+    }
+
+    /// Hands the bytes written since the last call to `sink` and forgets
+    /// them (keeping the buffer's allocation), for a document written out
+    /// piece by piece as it is made; between items only, not while one is
+    /// recorded ([`Self::record`] keeps places in the buffer).
+    pub fn drain<R>(&mut self, sink: impl FnOnce(&[u8]) -> R) -> R {
+        debug_assert!(matches!(self.mode, Mode::Write));
+        let r = sink(&self.out);
+        self.out.clear();
+        r
+    }
+
+    /// How many bytes [`Self::drain`] would hand over.
+    pub fn pending(&self) -> usize {
+        self.out.len()
+    }
+
+    /// Ends a document written by [`Self::drain`]: its final newline.
+    pub fn end_document(&mut self) {
+        self.out.push(b'\n');
     }
 
     /// A newline, after a `,` if `comma`, and the indent of `depth` levels,

@@ -134,7 +134,8 @@ fn failed_case(w: &mut Json, f: &FailedCase) {
     w.end_object();
 }
 
-/// `solve --format json`: the converged cases, then the failing one, and the trim.
+/// `solve --format json`: the converged cases, then the failing one, and the
+/// trim ([`SolveDocument`] in one piece).
 pub fn solve(
     model: &str,
     load_set: &str,
@@ -143,44 +144,102 @@ pub fn solve(
     not_solved: Option<&[(String, usize)]>,
     trim: Option<&Value>,
 ) -> String {
-    let mut w = Json::new();
-    w.begin_object();
-    w.key("cases").begin_array();
-    // The cases of a path name the same elements (shared names, see
-    // `report::Reporter`): the first of each shape is written and its layout
-    // recorded, the others only format their values into it.
-    let (mut this, mut last): (Vec<usize>, Option<(Vec<usize>, Template)>) = (Vec::new(), None);
+    let mut doc = SolveDocument::new();
     for c in cases {
-        shape(c, &mut this);
-        let replayed = match &mut last {
-            Some((was, layout)) if *was == this => w.replay(layout, |w| case(w, c)),
+        doc.case(c);
+    }
+    doc.end(load_set, model, failed, not_solved, trim);
+    doc.w.into_text()
+}
+
+/// The document of `solve --format json` made case by case, for a caller
+/// that writes it out as the path is solved ([`Self::drain`] between cases)
+/// rather than holding every case's report and the whole text.
+pub struct SolveDocument {
+    w: Json,
+    /// The shape of the case at hand, and the last case's with its layout.
+    this: Vec<usize>,
+    last: Option<(Vec<usize>, Template)>,
+}
+
+impl Default for SolveDocument {
+    fn default() -> Self {
+        SolveDocument::new()
+    }
+}
+
+impl SolveDocument {
+    /// The document up to its first case.
+    pub fn new() -> SolveDocument {
+        let mut w = Json::new();
+        w.begin_object();
+        w.key("cases").begin_array();
+        SolveDocument {
+            w,
+            this: Vec::new(),
+            last: None,
+        }
+    }
+
+    /// The next converged case.
+    pub fn case(&mut self, c: &CaseReport) {
+        // The cases of a path name the same elements (shared names, see
+        // `report::Reporter`): the first of each shape is written and its
+        // layout recorded, the others only format their values into it.
+        shape(c, &mut self.this);
+        let replayed = match &mut self.last {
+            Some((was, layout)) if *was == self.this => self.w.replay(layout, |w| case(w, c)),
             _ => false,
         };
         if !replayed {
-            last = Some((this.clone(), w.record(|w| case(w, c))));
+            let layout = self.w.record(|w| case(w, c));
+            self.last = Some((self.this.clone(), layout));
         }
     }
-    if let Some(f) = failed {
-        failed_case(&mut w, f);
-    }
-    w.end_array();
-    w.key("load_set").str(load_set);
-    w.key("model").str(model);
-    if let Some(rest) = not_solved {
-        w.key("not_solved").begin_array();
-        for (name, step) in rest {
-            w.begin_object();
-            w.key("name").str(name);
-            w.key("step").int(*step as u64);
-            w.end_object();
+
+    /// The failing case if any, and the rest of the document.
+    pub fn end(
+        &mut self,
+        load_set: &str,
+        model: &str,
+        failed: Option<&FailedCase>,
+        not_solved: Option<&[(String, usize)]>,
+        trim: Option<&Value>,
+    ) {
+        let w = &mut self.w;
+        if let Some(f) = failed {
+            failed_case(w, f);
         }
         w.end_array();
+        w.key("load_set").str(load_set);
+        w.key("model").str(model);
+        if let Some(rest) = not_solved {
+            w.key("not_solved").begin_array();
+            for (name, step) in rest {
+                w.begin_object();
+                w.key("name").str(name);
+                w.key("step").int(*step as u64);
+                w.end_object();
+            }
+            w.end_array();
+        }
+        if let Some(t) = trim {
+            w.key("trim").value(t);
+        }
+        w.end_object();
+        w.end_document();
     }
-    if let Some(t) = trim {
-        w.key("trim").value(t);
+
+    /// The bytes made since the last call, handed to `sink` (see
+    /// [`Json::drain`]).
+    pub fn drain<R>(&mut self, sink: impl FnOnce(&[u8]) -> R) -> R {
+        self.w.drain(sink)
     }
-    w.end_object();
-    w.finish()
+
+    /// How many bytes [`Self::drain`] would hand over.
+    pub fn pending(&self) -> usize {
+        self.w.pending()
+    }
 }
 
 /// One K&C row with the CSV's column names.
@@ -494,7 +553,17 @@ mod tests {
         }
         v["trim"] = trim.clone();
         round_tree(&mut v);
-        let direct = solve(
+        // Written out after every case, as `axle solve` writes a long path
+        // in pieces: the layouts replayed across the pieces.
+        let mut doc = SolveDocument::new();
+        let mut direct = Vec::new();
+        for r in &reports {
+            doc.case(r);
+            doc.drain(|b| direct.extend_from_slice(b));
+        }
+        doc.end(&ls.name, &m.name, failed.as_ref(), None, Some(&trim));
+        doc.drain(|b| direct.extend_from_slice(b));
+        let whole = solve(
             &m.name,
             &ls.name,
             &reports,
@@ -502,7 +571,12 @@ mod tests {
             None,
             Some(&trim),
         );
-        (direct, format!("{v:#}\n"))
+        assert_eq!(
+            String::from_utf8_lossy(&direct),
+            whole,
+            "in pieces and whole"
+        );
+        (whole, format!("{v:#}\n"))
     }
 
     #[test]

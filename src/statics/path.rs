@@ -111,6 +111,21 @@ impl Simulator {
         self.walk(problem, cases, start, guesses, |_, _, _| Ok(()))
     }
 
+    /// As [`Simulator::run`], handing each converged case to `each` as soon
+    /// as it is solved (a caller that writes results while the path goes on).
+    pub fn run_each<L: AsRef<[PointLoad]>>(
+        &mut self,
+        problem: &Problem,
+        cases: impl IntoIterator<Item = L>,
+        start: &State,
+        mut each: impl FnMut(usize, &Equilibrium),
+    ) -> PathRun {
+        self.walk(problem, cases, start, &[], |case, _, eq| {
+            each(case, eq);
+            Ok(())
+        })
+    }
+
     /// As [`Simulator::run`], with the derivative of every converged case
     /// with respect to `params` ([`super::sensitivity`]): by implicit
     /// differentiation with each case's own factorisation, or, for a model
@@ -273,8 +288,18 @@ pub fn solve_path_from(
 
 /// Every case of `set` from `start`, keeping the converged cases on failure.
 pub fn run_set(problem: &Problem, set: LoadSetId, start: &State) -> PathRun {
+    run_set_each(problem, set, start, |_, _| {})
+}
+
+/// As [`run_set`], handing each converged case to `each` as it is solved.
+pub fn run_set_each(
+    problem: &Problem,
+    set: LoadSetId,
+    start: &State,
+    each: impl FnMut(usize, &Equilibrium),
+) -> PathRun {
     match set_loads(problem.model(), set) {
-        Ok(cases) => simulate(problem, &cases, start),
+        Ok(cases) => Simulator::new().run_each(problem, &cases, start, each),
         Err(e) => PathRun {
             steps: Vec::new(),
             failure: Some(e),
