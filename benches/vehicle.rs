@@ -166,10 +166,11 @@ fn one_case_warm(b: Bencher, parts: usize) {
     b.bench_local(|| solve_case(&p, &laden, &start).expect("solves"));
 }
 
-/// The 100-step front bump from design: the path alone.
-#[divan::bench(sample_count = 30)]
-fn kc_sweep_100_steps_solve(b: Bencher) {
-    let (m, set) = with_sweep_100(&vehicle());
+/// The 100-step front bump from design: the path alone, on the example and
+/// on the car of 35 parts.
+#[divan::bench(sample_count = 30, args = [27, 35])]
+fn kc_sweep_100_steps_solve(b: Bencher, parts: usize) {
+    let (m, set) = with_sweep_100(&car(parts));
     let p = Problem::new(&m).expect("problem");
     let cases = set_loads(&m, set).expect("loads");
     let design = State::design(&m);
