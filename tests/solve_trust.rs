@@ -151,6 +151,10 @@ fn implausible_states_are_warned_naming_the_element() {
     assert!(stderr.contains("in case down"), "{stderr}");
     let (_, _, quiet) = axle(&["solve", file, "--loadcases", "path", "--format", "json"]);
     assert!(quiet.contains("W1002"), "json runs warn too: {quiet}");
+    // JSON gathers the warnings case by case as it writes the cases (it
+    // keeps no states): the same warnings, the same cases named.
+    let (_, _, table_warnings) = axle(&["solve", file, "--loadcases", "path"]);
+    assert_eq!(quiet, table_warnings);
     let small = scratch("soft_small.csv", "step,fx,fy,fz\n1,0,0,1000\n");
     let (code, _, stderr) = axle(&["solve", file, "--loads", &small]);
     assert_eq!(code, 0, "{stderr}");

@@ -1114,3 +1114,31 @@ fn a_path_that_exhausts_its_sub_step_budget_fails_at_that_case() {
     assert!(ample.failure.is_none(), "{:?}", ample.failure);
     assert_eq!(ample.steps[3].state, free.steps[3].state);
 }
+
+/// A path run case by case (`Simulator::run_each`, as `solve --format
+/// json` writes a long path) hands every converged case over in order, the
+/// same equilibria as the run that keeps them all, and keeps only the last.
+#[test]
+fn a_path_handed_over_case_by_case_keeps_only_its_last_state() {
+    use axle::statics::path::Simulator;
+    let m = mcpherson(1000.0);
+    let problem = Problem::new(&m.model).expect("compiles");
+    let cases: Vec<_> = [3000.0, 4500.0, 2500.0, 6000.0]
+        .iter()
+        .map(|&fz| wheel(&m, 500.0, -800.0, fz))
+        .collect();
+    let start = State::design(&m.model);
+    let kept = Simulator::new().run(&problem, &cases, &start, &[]);
+    assert!(kept.failure.is_none(), "{:?}", kept.failure);
+    let mut seen = Vec::new();
+    let each = Simulator::new().run_each(&problem, &cases, &start, |k, eq| {
+        seen.push((k, eq.state.clone()));
+    });
+    assert!(each.failure.is_none(), "{:?}", each.failure);
+    assert_eq!(seen.len(), 4);
+    for (k, (case, state)) in seen.iter().enumerate() {
+        assert_eq!((*case, state), (k, &kept.steps[k].state));
+    }
+    assert_eq!(each.steps.len(), 1);
+    assert_eq!(each.steps[0].state, kept.steps[3].state);
+}

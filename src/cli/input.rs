@@ -74,21 +74,30 @@ pub fn solve_reporting(
     problem: &crate::statics::Problem,
     set: LoadSetId,
 ) -> Solved {
-    solve_reporting_each(loaded, problem, set, |_, _| {})
+    let design = crate::statics::State::design(&loaded.model);
+    let run = crate::statics::path::run_set(problem, set, &design);
+    report_failure(loaded, set, run)
 }
 
 /// As [`solve_reporting`], handing each converged case to `each` as it is
-/// solved.
+/// solved; the result's `eqs` hold only the last converged case
+/// ([`crate::statics::path::run_set_each`]).
 pub fn solve_reporting_each(
     loaded: &Loaded,
     problem: &crate::statics::Problem,
     set: LoadSetId,
     each: impl FnMut(usize, &crate::statics::Equilibrium),
 ) -> Solved {
+    let design = crate::statics::State::design(&loaded.model);
+    let run = crate::statics::path::run_set_each(problem, set, &design, each);
+    report_failure(loaded, set, run)
+}
+
+/// A path's run with its failure, if any, reported as a diagnostic naming
+/// the case.
+fn report_failure(loaded: &Loaded, set: LoadSetId, run: crate::statics::path::PathRun) -> Solved {
     let model = &loaded.model;
     let ls = &model.load_sets[set.index()];
-    let design = crate::statics::State::design(model);
-    let run = crate::statics::path::run_set_each(problem, set, &design, each);
     let failed = run.failure.map(|e| {
         let case = ls.cases.get(e.case).map_or("?", |c| c.name.as_str());
         loaded.report(&[e.error.to_diagnostic(model).note(format!(

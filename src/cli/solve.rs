@@ -121,7 +121,8 @@ fn not_solved(names: &[String], failed: &FailedCase) -> Vec<(String, usize)> {
 const JSON_PIECE: usize = 1 << 16;
 
 /// `solve --format json`: each case written as it is solved (a long load
-/// path neither holds its reports nor the whole text), then the failing
+/// path holds neither its states, nor its reports, nor the whole text:
+/// 20 000 McPherson cases take 19 MB instead of 223 MB), then the failing
 /// case, the cases not solved and the trim. The output is opened before the
 /// solve, so a target that cannot be written costs no solve.
 fn stream_json(
@@ -139,10 +140,13 @@ fn stream_json(
     let ls = &model.load_sets[set.index()];
     let reporter = Reporter::new(model);
     let mut doc = SolveDocument::new();
+    let mut warnings = warning::PathWarnings::new(model);
     // The first write error; nothing more is written after it.
     let mut written = Ok(());
+    // (The path keeps no states: each case is reported and forgotten.)
     let solved = super::input::solve_reporting_each(loaded, problem, set, |k, eq| {
         doc.case(&reporter.case(&ls.cases[k].name, k + 1, eq));
+        warnings.add(&eq.state);
         if doc.pending() >= JSON_PIECE && written.is_ok() {
             written = doc.drain(|b| out.write(b));
         }
@@ -150,7 +154,7 @@ fn stream_json(
     let names: Vec<String> = ls.cases.iter().map(|c| c.name.clone()).collect();
     let failed = solved.failed.as_ref();
     let not_solved = failed.map(|f| not_solved(&names, f));
-    loaded.report(&warning::of_path(model, &names, &solved.eqs));
+    loaded.report(&warnings.finish(&names));
     doc.end(
         &ls.name,
         &model.name,

@@ -12,18 +12,53 @@ use crate::statics::{Equilibrium, State};
 /// Every warning of a path's converged cases (`names[k]` names case `k`):
 /// the angle warnings, then the implausible states.
 pub fn of_path(model: &Model, names: &[String], eqs: &[Equilibrium]) -> Vec<Diagnostic> {
-    let (layout, design) = (Layout::new(model), State::design(model));
-    let angles_per_case: Vec<_> = eqs
-        .iter()
-        .map(|e| angle_warnings_in(model, &layout, &e.state))
-        .collect();
-    let found: Vec<_> = eqs
-        .iter()
-        .map(|e| super::plausibility::findings(model, &layout, &design, &e.state))
-        .collect();
-    let mut out = angles(model, names, &angles_per_case);
-    out.extend(super::plausibility::warnings(model, names, &found));
-    out
+    let mut w = PathWarnings::new(model);
+    for e in eqs {
+        w.add(&e.state);
+    }
+    w.finish(names)
+}
+
+/// The warnings of a path gathered case by case, for a path whose states
+/// are not kept ([`crate::statics::path::Simulator::run_each`]): what each
+/// case shows, a few words a case and none for most.
+pub struct PathWarnings<'m> {
+    model: &'m Model,
+    layout: Layout,
+    design: State,
+    angles: Vec<Vec<AngleWarning>>,
+    found: Vec<Vec<super::plausibility::Finding>>,
+}
+
+impl<'m> PathWarnings<'m> {
+    pub fn new(model: &'m Model) -> PathWarnings<'m> {
+        PathWarnings {
+            model,
+            layout: Layout::new(model),
+            design: State::design(model),
+            angles: Vec::new(),
+            found: Vec::new(),
+        }
+    }
+
+    /// The next converged case's state.
+    pub fn add(&mut self, state: &State) {
+        let (model, layout) = (self.model, &self.layout);
+        self.angles.push(angle_warnings_in(model, layout, state));
+        let found = super::plausibility::findings(model, layout, &self.design, state);
+        self.found.push(found);
+    }
+
+    /// The warnings, the cases named by `names`.
+    pub fn finish(self, names: &[String]) -> Vec<Diagnostic> {
+        let mut out = angles(self.model, names, &self.angles);
+        out.extend(super::plausibility::warnings(
+            self.model,
+            names,
+            &self.found,
+        ));
+        out
+    }
 }
 
 /// One warning per bushing whose tilts (ax, ay) leave ±15° in some case:

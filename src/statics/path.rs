@@ -108,11 +108,13 @@ impl Simulator {
         start: &State,
         guesses: &[State],
     ) -> PathRun {
-        self.walk(problem, cases, start, guesses, |_, _, _| Ok(()))
+        self.walk(problem, cases, start, guesses, true, |_, _, _| Ok(()))
     }
 
     /// As [`Simulator::run`], handing each converged case to `each` as soon
-    /// as it is solved (a caller that writes results while the path goes on).
+    /// as it is solved (a caller that writes results while the path goes
+    /// on), and keeping only the last: the run's `steps` hold the last
+    /// converged case, so a path's memory does not grow with its length.
     pub fn run_each<L: AsRef<[PointLoad]>>(
         &mut self,
         problem: &Problem,
@@ -120,7 +122,7 @@ impl Simulator {
         start: &State,
         mut each: impl FnMut(usize, &Equilibrium),
     ) -> PathRun {
-        self.walk(problem, cases, start, &[], |case, _, eq| {
+        self.walk(problem, cases, start, &[], false, |case, _, eq| {
             each(case, eq);
             Ok(())
         })
@@ -154,7 +156,7 @@ impl Simulator {
         let mut ws = Workspace::new(problem);
         let mut out = Vec::with_capacity(cases.len());
         let mut failed = None;
-        let run = self.walk(problem, cases, start, guesses, |case, sv, eq| {
+        let run = self.walk(problem, cases, start, guesses, true, |case, sv, eq| {
             let loads = eq.state.loads().to_vec();
             match sensitivity::at_equilibrium(
                 problem, &mut work, &mut ws, sv, &eq.state, &loads, params, &values,
@@ -178,13 +180,15 @@ impl Simulator {
 
     /// The path loop; `after(case, solver, equilibrium)` runs after each
     /// converged case, with the solver holding that equilibrium's matrix, and
-    /// stops the path when it fails.
+    /// stops the path when it fails. `keep`: every converged case is kept
+    /// in the run's `steps`, otherwise only the last.
     fn walk<L: AsRef<[PointLoad]>>(
         &mut self,
         problem: &Problem,
         cases: impl IntoIterator<Item = L>,
         start: &State,
         guesses: &[State],
+        keep: bool,
         mut after: impl FnMut(usize, &mut Solver, &Equilibrium) -> Result<(), ()>,
     ) -> PathRun {
         // The last factorisation belongs to another path (maybe another
@@ -223,6 +227,9 @@ impl Simulator {
                         Some(sv) => after(case, sv, &eq).is_err(),
                         None => false,
                     };
+                    if !keep {
+                        steps.clear();
+                    }
                     steps.push(eq);
                     if stop {
                         return PathRun {
@@ -288,10 +295,17 @@ pub fn solve_path_from(
 
 /// Every case of `set` from `start`, keeping the converged cases on failure.
 pub fn run_set(problem: &Problem, set: LoadSetId, start: &State) -> PathRun {
-    run_set_each(problem, set, start, |_, _| {})
+    match set_loads(problem.model(), set) {
+        Ok(cases) => simulate(problem, &cases, start),
+        Err(e) => PathRun {
+            steps: Vec::new(),
+            failure: Some(e),
+        },
+    }
 }
 
-/// As [`run_set`], handing each converged case to `each` as it is solved.
+/// As [`run_set`], handing each converged case to `each` as it is solved
+/// and keeping only the last ([`Simulator::run_each`]).
 pub fn run_set_each(
     problem: &Problem,
     set: LoadSetId,
