@@ -1117,10 +1117,12 @@ fn a_path_that_exhausts_its_sub_step_budget_fails_at_that_case() {
 
 /// A path run case by case (`Simulator::run_each`, as `solve --format
 /// json` writes a long path) hands every converged case over in order, the
-/// same equilibria as the run that keeps them all, and keeps only the last.
+/// same equilibria as the run that keeps them all, and keeps only the last;
+/// a break stops it there.
 #[test]
 fn a_path_handed_over_case_by_case_keeps_only_its_last_state() {
     use axle::statics::path::Simulator;
+    use std::ops::ControlFlow;
     let m = mcpherson(1000.0);
     let problem = Problem::new(&m.model).expect("compiles");
     let cases: Vec<_> = [3000.0, 4500.0, 2500.0, 6000.0]
@@ -1133,6 +1135,7 @@ fn a_path_handed_over_case_by_case_keeps_only_its_last_state() {
     let mut seen = Vec::new();
     let each = Simulator::new().run_each(&problem, &cases, &start, |k, eq| {
         seen.push((k, eq.state.clone()));
+        ControlFlow::Continue(())
     });
     assert!(each.failure.is_none(), "{:?}", each.failure);
     assert_eq!(seen.len(), 4);
@@ -1141,4 +1144,18 @@ fn a_path_handed_over_case_by_case_keeps_only_its_last_state() {
     }
     assert_eq!(each.steps.len(), 1);
     assert_eq!(each.steps[0].state, kept.steps[3].state);
+    // A break (the output gone) stops the path at that case, not a failure.
+    let mut count = 0;
+    let stopped = Simulator::new().run_each(&problem, &cases, &start, |_, _| {
+        count += 1;
+        if count == 2 {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    });
+    assert!(stopped.failure.is_none(), "{:?}", stopped.failure);
+    assert_eq!(count, 2);
+    assert_eq!(stopped.steps.len(), 1);
+    assert_eq!(stopped.steps[0].state, kept.steps[1].state);
 }

@@ -80,13 +80,13 @@ pub fn solve_reporting(
 }
 
 /// As [`solve_reporting`], handing each converged case to `each` as it is
-/// solved; the result's `eqs` hold only the last converged case
-/// ([`crate::statics::path::run_set_each`]).
+/// solved (which may stop the path); the result's `eqs` hold only the last
+/// converged case ([`crate::statics::path::run_set_each`]).
 pub fn solve_reporting_each(
     loaded: &Loaded,
     problem: &crate::statics::Problem,
     set: LoadSetId,
-    each: impl FnMut(usize, &crate::statics::Equilibrium),
+    each: impl FnMut(usize, &crate::statics::Equilibrium) -> std::ops::ControlFlow<()>,
 ) -> Solved {
     let design = crate::statics::State::design(&loaded.model);
     let run = crate::statics::path::run_set_each(problem, set, &design, each);

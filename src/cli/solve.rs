@@ -11,6 +11,7 @@ use crate::output::solve_json::SolveDocument;
 use crate::output::warning;
 use crate::output::{kc_table, parts_csv, solve_table};
 use crate::statics::Problem;
+use std::ops::ControlFlow;
 use std::path::PathBuf;
 
 pub struct TrimArgs {
@@ -141,14 +142,19 @@ fn stream_json(
     let reporter = Reporter::new(model);
     let mut doc = SolveDocument::new();
     let mut warnings = warning::PathWarnings::new(model);
-    // The first write error; nothing more is written after it.
+    // The first write error, which stops the path (`axle solve … | head`
+    // solves no more than it writes).
     let mut written = Ok(());
     // (The path keeps no states: each case is reported and forgotten.)
     let solved = super::input::solve_reporting_each(loaded, problem, set, |k, eq| {
         doc.case(&reporter.case(&ls.cases[k].name, k + 1, eq));
         warnings.add(&eq.state);
-        if doc.pending() >= JSON_PIECE && written.is_ok() {
+        if doc.pending() >= JSON_PIECE {
             written = doc.drain(|b| out.write(b));
+        }
+        match written {
+            Ok(()) => ControlFlow::Continue(()),
+            Err(_) => ControlFlow::Break(()),
         }
     });
     let names: Vec<String> = ls.cases.iter().map(|c| c.name.clone()).collect();

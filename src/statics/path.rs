@@ -21,6 +21,7 @@ use super::newton::Solver;
 use super::sensitivity::{self, CaseSensitivity, Parameter};
 use super::{Equilibrium, Problem, State, StaticsError, StaticsErrorKind, solve_reusing};
 use crate::model::{LoadSetId, Model, PointLoad};
+use std::ops::ControlFlow;
 
 /// A failure at one case of a path.
 #[derive(Debug, Clone, PartialEq)]
@@ -115,17 +116,25 @@ impl Simulator {
     /// as it is solved (a caller that writes results while the path goes
     /// on), and keeping only the last: the run's `steps` hold the last
     /// converged case, so a path's memory does not grow with its length.
+    /// `each` breaking stops the path there (its output is gone, say).
     pub fn run_each<L: AsRef<[PointLoad]>>(
         &mut self,
         problem: &Problem,
         cases: impl IntoIterator<Item = L>,
         start: &State,
-        mut each: impl FnMut(usize, &Equilibrium),
+        mut each: impl FnMut(usize, &Equilibrium) -> ControlFlow<()>,
     ) -> PathRun {
-        self.walk(problem, cases, start, &[], false, |case, _, eq| {
-            each(case, eq);
-            Ok(())
-        })
+        self.walk(
+            problem,
+            cases,
+            start,
+            &[],
+            false,
+            |case, _, eq| match each(case, eq) {
+                ControlFlow::Continue(()) => Ok(()),
+                ControlFlow::Break(()) => Err(()),
+            },
+        )
     }
 
     /// As [`Simulator::run`], with the derivative of every converged case
@@ -295,13 +304,7 @@ pub fn solve_path_from(
 
 /// Every case of `set` from `start`, keeping the converged cases on failure.
 pub fn run_set(problem: &Problem, set: LoadSetId, start: &State) -> PathRun {
-    match set_loads(problem.model(), set) {
-        Ok(cases) => simulate(problem, &cases, start),
-        Err(e) => PathRun {
-            steps: Vec::new(),
-            failure: Some(e),
-        },
-    }
+    on_set_loads(problem, set, |cases| simulate(problem, cases, start))
 }
 
 /// As [`run_set`], handing each converged case to `each` as it is solved
@@ -310,10 +313,21 @@ pub fn run_set_each(
     problem: &Problem,
     set: LoadSetId,
     start: &State,
-    each: impl FnMut(usize, &Equilibrium),
+    each: impl FnMut(usize, &Equilibrium) -> ControlFlow<()>,
+) -> PathRun {
+    on_set_loads(problem, set, |cases| {
+        Simulator::new().run_each(problem, cases, start, each)
+    })
+}
+
+/// `run` on the loads of every case of `set`, or the failure to find them.
+fn on_set_loads(
+    problem: &Problem,
+    set: LoadSetId,
+    run: impl FnOnce(&[Vec<PointLoad>]) -> PathRun,
 ) -> PathRun {
     match set_loads(problem.model(), set) {
-        Ok(cases) => Simulator::new().run_each(problem, &cases, start, each),
+        Ok(cases) => run(&cases),
         Err(e) => PathRun {
             steps: Vec::new(),
             failure: Some(e),
