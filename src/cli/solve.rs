@@ -161,7 +161,7 @@ fn stream_json(
     let failed = solved.failed.as_ref();
     let not_solved = failed.map(|f| not_solved(&names, f));
     loaded.report(&warnings.finish(&names));
-    doc.end(
+    let tail = doc.end(
         &ls.name,
         &model.name,
         failed,
@@ -169,7 +169,7 @@ fn stream_json(
         trim.map(|t| &t.json),
     );
     let written = written
-        .and_then(|()| doc.drain(|b| out.write(b)))
+        .and_then(|()| out.write(tail.as_bytes()))
         .and_then(|()| out.commit());
     match reported(&target, written) {
         // The converged cases are written; the failing one was reported.

@@ -87,14 +87,9 @@ impl Json {
         }
     }
 
-    /// The document with its final newline.
+    /// The document (what was not drained of it) with its final newline.
     pub fn finish(mut self) -> String {
-        self.end_document();
-        self.into_text()
-    }
-
-    /// The bytes not yet drained, as text.
-    pub fn into_text(self) -> String {
+        self.out.push(b'\n');
         // Every write is a `&str`, an ASCII byte or a number's ASCII digits.
         String::from_utf8(self.out)
             .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
@@ -114,11 +109,6 @@ impl Json {
     /// How many bytes [`Self::drain`] would hand over.
     pub fn pending(&self) -> usize {
         self.out.len()
-    }
-
-    /// Ends a document written by [`Self::drain`]: its final newline.
-    pub fn end_document(&mut self) {
-        self.out.push(b'\n');
     }
 
     /// A newline, after a `,` if `comma`, and the indent of `depth` levels,

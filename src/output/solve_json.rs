@@ -148,8 +148,7 @@ pub fn solve(
     for c in cases {
         doc.case(c);
     }
-    doc.end(load_set, model, failed, not_solved, trim);
-    doc.w.into_text()
+    doc.end(load_set, model, failed, not_solved, trim)
 }
 
 /// The document of `solve --format json` made case by case, for a caller
@@ -197,15 +196,16 @@ impl SolveDocument {
         }
     }
 
-    /// The failing case if any, and the rest of the document.
+    /// The failing case if any, and the rest of the document: the text not
+    /// yet drained, to its final newline.
     pub fn end(
-        &mut self,
+        mut self,
         load_set: &str,
         model: &str,
         failed: Option<&FailedCase>,
         not_solved: Option<&[(String, usize)]>,
         trim: Option<&Value>,
-    ) {
+    ) -> String {
         let w = &mut self.w;
         if let Some(f) = failed {
             failed_case(w, f);
@@ -227,7 +227,7 @@ impl SolveDocument {
             w.key("trim").value(t);
         }
         w.end_object();
-        w.end_document();
+        self.w.finish()
     }
 
     /// The bytes made since the last call, handed to `sink` (see

@@ -93,8 +93,8 @@ fn both_solve(m: &Model, set: LoadSetId) -> (String, String) {
         doc.case(r);
         doc.drain(|b| direct.extend_from_slice(b));
     }
-    doc.end(&ls.name, &m.name, failed.as_ref(), None, Some(&trim));
-    doc.drain(|b| direct.extend_from_slice(b));
+    let tail = doc.end(&ls.name, &m.name, failed.as_ref(), None, Some(&trim));
+    direct.extend_from_slice(tail.as_bytes());
     let whole = solve(
         &m.name,
         &ls.name,
