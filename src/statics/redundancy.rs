@@ -97,8 +97,11 @@ pub fn independence(eqs: &[Equation], jac: &DMatrix<f64>) -> Independence {
         let mut v = row.clone();
         for _ in 0..2 {
             for b in &basis {
+                // In place: `v -= b * c` made a vector per step, which cost
+                // more than the arithmetic (the same products and sums).
                 let c = b.dot(&v);
-                v -= b * c;
+                let (v, b) = (v.as_mut_slice(), b.as_slice());
+                v.iter_mut().zip(b).for_each(|(x, y)| *x -= y * c);
             }
         }
         let res = v.norm();
