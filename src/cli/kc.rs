@@ -13,7 +13,7 @@ use crate::output::number::fixed;
 use crate::output::plot::{Note, Quantity, Sweep, annotated_svg};
 use crate::output::warning;
 use crate::output::{columns, kc_table, solve_json};
-use crate::statics::{Equilibrium, Problem, compliance};
+use crate::statics::{self, Equilibrium, Problem};
 use std::path::PathBuf;
 
 pub struct Args {
@@ -73,11 +73,16 @@ fn compliances(
     model: &Model,
     first: &Equilibrium,
 ) -> Vec<(String, [[f64; 3]; 3])> {
+    let centres: Vec<_> = model.wheels.iter().map(|w| w.centre).collect();
+    let Ok(each) = statics::compliances(problem, first, &centres) else {
+        return Vec::new();
+    };
     model
         .wheels
         .iter()
-        .filter_map(|w| {
-            compliance(problem, first, w.centre).ok().map(|c| {
+        .zip(each)
+        .filter_map(|(w, c)| {
+            c.ok().map(|c| {
                 (
                     w.name.clone(),
                     [0, 1, 2].map(|i| [0, 1, 2].map(|j| c[i][j] * 1000.0)),

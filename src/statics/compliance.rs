@@ -5,11 +5,14 @@ use super::assembly::{assemble, col_scale};
 use super::coords::marker_kin;
 use super::error::{StaticsError, StaticsErrorKind};
 use super::forces::point_load;
-use super::newton::{CONSTRAINT_TOL, FORCE_TOL, kkt, solve_dense};
+use super::newton::{CONSTRAINT_TOL, DenseLu, FORCE_TOL, dense_lu, kkt, solve_with};
 use super::{Equilibrium, Problem};
 use crate::geom::Vec3;
 use crate::model::{ElementId, MarkerId, PartId, PointLoad};
 use nalgebra::DVector;
+
+/// A marker's 6×6 compliance ([`compliance`]).
+pub type Compliance = [[f64; 6]; 6];
 
 /// The 6×6 compliance of a marker at an equilibrium: column `c` is the marker's
 /// displacement (mm) and rotation (rad), global, under a unit global force
@@ -19,18 +22,55 @@ pub fn compliance(
     problem: &Problem,
     eq: &Equilibrium,
     marker: MarkerId,
-) -> Result<[[f64; 6]; 6], StaticsError> {
+) -> Result<Compliance, StaticsError> {
+    compliances(problem, eq, &[marker])?
+        .pop()
+        .unwrap_or_else(|| Err(unknown_marker()))
+}
+
+/// The compliances ([`compliance`]) of several markers at one equilibrium,
+/// in their order: the Newton matrix is assembled and factorised once for
+/// all of them (it was factorised once per column, 24 times for a car's
+/// four wheels, half of `axle kc` on the car). `Err` when the matrix cannot
+/// be assembled; a marker whose columns the factorisation does not solve
+/// has its own error.
+pub fn compliances(
+    problem: &Problem,
+    eq: &Equilibrium,
+    markers: &[MarkerId],
+) -> Result<Vec<Result<Compliance, StaticsError>>, StaticsError> {
     let p = problem;
-    if marker.index() >= p.model.markers.len() {
-        return Err(StaticsError::new(
-            StaticsErrorKind::BadInput,
-            vec![],
-            "compliance of a marker the model does not have",
-        ));
-    }
     let st = &eq.state;
     let sys = assemble(p, st, &st.loads)?;
     let a = kkt(&sys);
+    let lu = dense_lu(&a);
+    let one = |marker: MarkerId| {
+        if marker.index() >= p.model.markers.len() {
+            return Err(unknown_marker());
+        }
+        marker_compliance(p, eq, &sys, &a, &lu, marker)
+    };
+    Ok(markers.iter().map(|&m| one(m)).collect())
+}
+
+fn unknown_marker() -> StaticsError {
+    StaticsError::new(
+        StaticsErrorKind::BadInput,
+        vec![],
+        "compliance of a marker the model does not have",
+    )
+}
+
+/// One marker's compliance from the factorised Newton matrix `a` of `sys`.
+fn marker_compliance(
+    p: &Problem,
+    eq: &Equilibrium,
+    sys: &super::assembly::System,
+    a: &nalgebra::DMatrix<f64>,
+    lu: &DenseLu,
+    marker: MarkerId,
+) -> Result<Compliance, StaticsError> {
+    let st = &eq.state;
     let (n, m) = (sys.k.nrows(), sys.jac.nrows());
     let mk = marker_kin(&p.model, &p.layout, st, marker);
     let mut out = [[0.0; 6]; 6];
@@ -56,7 +96,7 @@ pub fn compliance(
         for i in 0..n {
             b[i] = -dq_ext[i] * col_scale(i, p.length);
         }
-        let Some(x) = solve_dense(&a, &b) else {
+        let Some(x) = solve_with(a, lu, &b) else {
             return Err(StaticsError::new(
                 StaticsErrorKind::Unrestrained,
                 vec![ElementId::Marker(marker)],
@@ -157,6 +197,29 @@ mod tests {
     /// components each make `√3` of that.
     #[test]
     fn a_part_on_one_bushing_stops_within_its_tolerance_over_its_stiffness() {
+        let model = block();
+        let problem = Problem::new(&model).expect("compiles");
+        let set = model.load_set_named("push").expect("set");
+        let eq = &crate::statics::solve_set(&model, set).expect("solves")[0];
+        let f = eq.force_scale;
+        // The load's magnitude, which the bushing's force balances.
+        let load = (300.0f64 * 300.0 + 100.0 * 100.0).sqrt();
+        assert!((f - load).abs() < 1e-6 * load, "{f}");
+        let e = stopping_error(&problem, eq).expect("regular");
+        assert_eq!(e.len(), 1);
+        let k_t = 5000.0_f64.to_degrees();
+        let distance = 3f64.sqrt() * FORCE_TOL * f / 2000.0;
+        let angle = 3f64.sqrt() * FORCE_TOL * f * problem.length / k_t;
+        assert!(
+            (e[0].distance - distance).abs() < 1e-3 * distance,
+            "{e:?} {distance}"
+        );
+        assert!((e[0].angle - angle).abs() < 1e-3 * angle, "{e:?} {angle}");
+    }
+
+    /// One part on one bushing at its origin (2000 N/mm, 5000 N·mm/deg in
+    /// every direction), pushed at that point.
+    fn block() -> crate::model::Model {
         let (_, c) = crate::check::check_str(
             "block.axle",
             "model block
@@ -180,23 +243,35 @@ loads push table (block.B.fz N, block.B.fx N) {
 }
 ",
         );
-        let model = c.model.expect("checks clean");
+        c.model.expect("checks clean")
+    }
+
+    /// The compliances of several markers from one factorisation are each
+    /// marker's own, to the bit; the block's at its bushing point is the
+    /// bushing's inverse stiffness (the load at that point adds no
+    /// stiffness about it); a ground marker's is zero, an unknown marker an
+    /// error of its own.
+    #[test]
+    fn compliances_of_several_markers_are_each_markers_own() {
+        let model = block();
         let problem = Problem::new(&model).expect("compiles");
         let set = model.load_set_named("push").expect("set");
         let eq = &crate::statics::solve_set(&model, set).expect("solves")[0];
-        let f = eq.force_scale;
-        // The load's magnitude, which the bushing's force balances.
-        let load = (300.0f64 * 300.0 + 100.0 * 100.0).sqrt();
-        assert!((f - load).abs() < 1e-6 * load, "{f}");
-        let e = stopping_error(&problem, eq).expect("regular");
-        assert_eq!(e.len(), 1);
-        let k_t = 5000.0_f64.to_degrees();
-        let distance = 3f64.sqrt() * FORCE_TOL * f / 2000.0;
-        let angle = 3f64.sqrt() * FORCE_TOL * f * problem.length / k_t;
-        assert!(
-            (e[0].distance - distance).abs() < 1e-3 * distance,
-            "{e:?} {distance}"
-        );
-        assert!((e[0].angle - angle).abs() < 1e-3 * angle, "{e:?} {angle}");
+        let part = model.part_named("block").expect("part");
+        let frame = model.part_named("frame").expect("ground");
+        let b = model.marker_named(part, "B").expect("marker");
+        let far = model.marker_named(frame, "far").expect("marker");
+        let unknown = MarkerId(model.markers.len() as u32);
+        let all = compliances(&problem, eq, &[b, far, unknown]).expect("assembles");
+        assert_eq!(all.len(), 3);
+        let own = compliance(&problem, eq, b).expect("regular");
+        assert_eq!(all[0].as_ref().expect("regular"), &own);
+        assert_eq!(all[1].as_ref().expect("ground"), &[[0.0; 6]; 6]);
+        assert!(all[2].is_err());
+        let rad = 1.0 / 5000.0_f64.to_degrees();
+        for i in 0..6 {
+            let want = if i < 3 { 1.0 / 2000.0 } else { rad };
+            assert!((own[i][i] - want).abs() < 1e-3 * want, "{i}: {own:?}");
+        }
     }
 }

@@ -39,7 +39,7 @@ mod tangent;
 mod testkit;
 pub mod wrench;
 
-pub use compliance::{StoppingError, compliance, stopping_error};
+pub use compliance::{StoppingError, compliance, compliances, stopping_error};
 pub use coords::State;
 pub use error::{StaticsError, StaticsErrorKind};
 pub use mobility::{Mobility, Motion};

@@ -342,14 +342,22 @@ pub(crate) fn kkt(sys: &System) -> DMatrix<f64> {
     a
 }
 
-/// Solves a dense square system by faer's LU; None if the result is not finite
-/// or does not satisfy the system (faer does not report singular matrices).
-pub(crate) fn solve_dense(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
+/// faer's LU of a dense square matrix, for [`solve_with`].
+pub(crate) type DenseLu = faer::linalg::solvers::PartialPivLu<f64>;
+
+/// faer's LU of the dense square matrix `a`.
+pub(crate) fn dense_lu(a: &DMatrix<f64>) -> DenseLu {
     let nn = a.nrows();
-    let fa = faer::MatRef::from_column_major_slice(a.as_slice(), nn, nn);
+    faer::MatRef::from_column_major_slice(a.as_slice(), nn, nn).partial_piv_lu()
+}
+
+/// Solves the dense square system `a x = b` with `lu`, [`dense_lu`]`(a)`;
+/// None if the result is not finite or does not satisfy the system (faer
+/// does not report singular matrices).
+pub(crate) fn solve_with(a: &DMatrix<f64>, lu: &DenseLu, b: &DVector<f64>) -> Option<DVector<f64>> {
+    let nn = a.nrows();
     let fb = faer::MatRef::from_column_major_slice(b.as_slice(), nn, 1);
-    let lu = fa.partial_piv_lu();
-    let sol = faer::linalg::solvers::Solve::solve(&lu, fb);
+    let sol = faer::linalg::solvers::Solve::solve(lu, fb);
     let x = DVector::from_fn(nn, |i, _| sol[(i, 0)]);
     if !x.iter().all(|v| v.is_finite()) {
         return None;
