@@ -5,7 +5,7 @@ use super::assembly::{assemble, col_scale};
 use super::coords::marker_kin;
 use super::error::{StaticsError, StaticsErrorKind};
 use super::forces::point_load;
-use super::newton::{CONSTRAINT_TOL, DenseLu, FORCE_TOL, dense_lu, kkt, solve_with};
+use super::newton::{CONSTRAINT_TOL, DenseLu, FORCE_TOL, kkt};
 use super::{Equilibrium, Problem};
 use crate::geom::Vec3;
 use crate::model::{ElementId, MarkerId, PartId, PointLoad};
@@ -43,12 +43,12 @@ pub fn compliances(
     let st = &eq.state;
     let sys = assemble(p, st, &st.loads)?;
     let a = kkt(&sys);
-    let lu = dense_lu(&a);
+    let lu = DenseLu::new(&a);
     let one = |marker: MarkerId| {
         if marker.index() >= p.model.markers.len() {
             return Err(unknown_marker());
         }
-        marker_compliance(p, eq, &sys, &a, &lu, marker)
+        marker_compliance(p, eq, &sys, &lu, marker)
     };
     Ok(markers.iter().map(|&m| one(m)).collect())
 }
@@ -61,12 +61,11 @@ fn unknown_marker() -> StaticsError {
     )
 }
 
-/// One marker's compliance from the factorised Newton matrix `a` of `sys`.
+/// One marker's compliance from the factorised Newton matrix of `sys`.
 fn marker_compliance(
     p: &Problem,
     eq: &Equilibrium,
     sys: &super::assembly::System,
-    a: &nalgebra::DMatrix<f64>,
     lu: &DenseLu,
     marker: MarkerId,
 ) -> Result<Compliance, StaticsError> {
@@ -96,7 +95,7 @@ fn marker_compliance(
         for i in 0..n {
             b[i] = -dq_ext[i] * col_scale(i, p.length);
         }
-        let Some(x) = solve_with(a, lu, &b) else {
+        let Some(x) = lu.solve(&b) else {
             return Err(StaticsError::new(
                 StaticsErrorKind::Unrestrained,
                 vec![ElementId::Marker(marker)],

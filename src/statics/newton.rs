@@ -342,38 +342,41 @@ pub(crate) fn kkt(sys: &System) -> DMatrix<f64> {
     a
 }
 
-/// faer's LU of a dense square matrix, and the matrix's largest entry (for
-/// [`solve_with`]'s check, found once for every right-hand side).
-pub(crate) struct DenseLu {
+/// A dense square matrix with faer's LU of it and its largest entry (found
+/// once for every right-hand side [`DenseLu::solve`] checks).
+pub(crate) struct DenseLu<'a> {
+    a: &'a DMatrix<f64>,
     lu: faer::linalg::solvers::PartialPivLu<f64>,
     a_max: f64,
 }
 
-/// faer's LU of the dense square matrix `a`.
-pub(crate) fn dense_lu(a: &DMatrix<f64>) -> DenseLu {
-    let nn = a.nrows();
-    DenseLu {
-        lu: faer::MatRef::from_column_major_slice(a.as_slice(), nn, nn).partial_piv_lu(),
-        a_max: a.amax(),
+impl<'a> DenseLu<'a> {
+    /// faer's LU of the dense square matrix `a`.
+    pub fn new(a: &'a DMatrix<f64>) -> DenseLu<'a> {
+        let nn = a.nrows();
+        DenseLu {
+            a,
+            lu: faer::MatRef::from_column_major_slice(a.as_slice(), nn, nn).partial_piv_lu(),
+            a_max: a.amax(),
+        }
     }
-}
 
-/// Solves the dense square system `a x = b` with `lu`, [`dense_lu`]`(a)`;
-/// None if the result is not finite or does not satisfy the system (faer
-/// does not report singular matrices).
-pub(crate) fn solve_with(a: &DMatrix<f64>, lu: &DenseLu, b: &DVector<f64>) -> Option<DVector<f64>> {
-    let nn = a.nrows();
-    let fb = faer::MatRef::from_column_major_slice(b.as_slice(), nn, 1);
-    let sol = faer::linalg::solvers::Solve::solve(&lu.lu, fb);
-    let x = DVector::from_fn(nn, |i, _| sol[(i, 0)]);
-    if !x.iter().all(|v| v.is_finite()) {
-        return None;
+    /// Solves `a x = b`; None if the result is not finite or does not
+    /// satisfy the system (faer does not report singular matrices).
+    pub fn solve(&self, b: &DVector<f64>) -> Option<DVector<f64>> {
+        let nn = self.a.nrows();
+        let fb = faer::MatRef::from_column_major_slice(b.as_slice(), nn, 1);
+        let sol = faer::linalg::solvers::Solve::solve(&self.lu, fb);
+        let x = DVector::from_fn(nn, |i, _| sol[(i, 0)]);
+        if !x.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+        let res = (self.a * &x - b).amax();
+        if res > 1e-8 * (b.amax() + self.a_max * x.amax()) {
+            return None;
+        }
+        Some(x)
     }
-    let res = (a * &x - b).amax();
-    if res > 1e-8 * (b.amax() + lu.a_max * x.amax()) {
-        return None;
-    }
-    Some(x)
 }
 
 /// If the scaled Newton matrix is numerically singular, the unrestrained motion
