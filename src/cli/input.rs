@@ -59,8 +59,9 @@ pub fn emit(path: Option<&Path>, text: &str) -> Exit {
     super::write::emit(&super::write::Target::from_option(path), text)
 }
 
-/// A load set solved along its path: the converged cases, and the case that
-/// failed (its diagnostic already reported).
+/// A load set solved along its path: the converged cases (only the last
+/// when they were handed over one by one, [`solve_reporting_each`]), and the
+/// case that failed (its diagnostic already reported).
 pub struct Solved {
     pub eqs: Vec<crate::statics::Equilibrium>,
     pub failed: Option<crate::output::report::FailedCase>,

@@ -68,7 +68,7 @@ fn sweep_kind(set: &LoadSet) -> Sweep {
 const COMPLIANCE_AXES: [&str; 3] = ["x", "y", "z"];
 
 /// The wheel-centre compliance at the first step, per wheel: translational block, mm/kN.
-fn compliances(
+fn wheel_compliances(
     problem: &Problem,
     model: &Model,
     first: &Equilibrium,
@@ -372,7 +372,7 @@ fn kc(args: &Args) -> Result<Exit, Exit> {
     }
     let comp = eqs
         .first()
-        .map_or_else(Vec::new, |e| compliances(&problem, model, e));
+        .map_or_else(Vec::new, |e| wheel_compliances(&problem, model, e));
 
     // "13 steps", or "9 of 13 steps" when the path stopped.
     let steps = match failed {
