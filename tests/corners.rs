@@ -11,7 +11,7 @@ use axle::statics::{self, Equilibrium};
 
 mod common;
 
-use common::{checked, example, share_of_stopping, solve, stopping};
+use common::{checked, example, pose_at, reference, share_of_stopping, solve, stopping};
 
 fn pose(m: &Model, e: &Equilibrium, part: &str) -> (Vec3, Mat3) {
     e.state
@@ -474,8 +474,9 @@ fn the_twist_beam_axle_in_roll_is_its_own_mirror_image() {
             ("rear.half_right", "rear.half_left"),
             ("rear.beam", "rear.beam"),
         ] {
-            let (ta, ra) = pose(&m, &e[k], a);
-            let (tb, rb) = pose(&m, &e[k2], b);
+            // (Each half at its reference point: the halves' are mirror images.)
+            let (ta, ra) = pose_at(&m, &e[k], a, &reference(&m, a));
+            let (tb, rb) = pose_at(&m, &e[k2], b, &reference(&m, b));
             let (d, r) = ((tb - s * ta).norm(), (rb - s * ra * s).norm());
             worst = worst.max(share_of_stopping(d, r, stop[k][a], stop[k2][b]));
         }

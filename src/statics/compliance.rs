@@ -119,7 +119,10 @@ fn marker_compliance(
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StoppingError {
     pub part: PartId,
-    /// Bound on the distance of the part's origin from its exact place (mm).
+    /// Bound on the distance of the part's reference point from its exact
+    /// place (mm): the point the solver's coordinates refer to, the
+    /// centroid of its connection markers at design
+    /// ([`super::coords::reference_points`]).
     pub distance: f64,
     /// Bound on the angle of the part's rotation from its exact one (rad).
     pub angle: f64,

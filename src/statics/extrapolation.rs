@@ -17,9 +17,10 @@
 //! five does.
 //!
 //! Each part's correction is kept in the part's own frame: a twist is the
-//! frame origin's displacement and a rotation, so the same twist in space
-//! moves a point far from the origin differently once the part has turned by
-//! a load step (a lower arm's bushing 0.5 m from its origin), which a stiff
+//! displacement of the part's reference point ([`Layout::reference`]) and a
+//! rotation, so the same twist in space moves a point far from that point
+//! differently once the part has turned by a load step (a lower arm's
+//! bushing 0.5 m from its frame origin, the reference point then), which a stiff
 //! bushing turns into a force error (kept in space, the force error after
 //! the prediction rose from 5e-4 to 1e-2).
 //!
@@ -136,11 +137,11 @@ impl Extrapolation {
     }
 
     /// A step `dq` Newton took after the prediction, from the state `from`.
-    /// Summed in each part's frame: a part's twist is its frame origin's
+    /// Summed in each part's frame: a part's twist is its reference point's
     /// displacement and a rotation, so the same correction in space moves a
-    /// point away from the origin differently once the part has turned by a
-    /// load step (a lower arm's bushing 0.5 m from its origin); in the part's
-    /// frame it moves the part's material points as it did.
+    /// point away from that point differently once the part has turned by a
+    /// load step; in the part's frame it moves the part's material points as
+    /// it did.
     pub(crate) fn record(
         &mut self,
         layout: &Layout,
@@ -333,6 +334,9 @@ mod tests {
             );
             for (x, y) in sa.iter().zip(&sb) {
                 let ((ta, ra), (tb, rb)) = (a.state.part_pose(x.part), b.state.part_pose(x.part));
+                // (The distances are the reference points'.)
+                let c = p.layout.reference[x.part.index()];
+                let (ta, tb) = (ta + ra * c, tb + rb * c);
                 assert!((ta - tb).norm() <= x.distance + y.distance, "{ta} {tb}");
                 assert!((ra - rb).norm() <= 2f64.sqrt() * (x.angle + y.angle));
             }

@@ -13,7 +13,7 @@
 //! ([`PartFrames`]).
 
 use super::Problem;
-use super::coords::{Layout, State};
+use super::coords::{Layout, State, connection_markers, marker_centroid, reference_points};
 use super::forces::element_wrenches;
 use super::redundancy::{RedundantEquation, rank_and_null_space, scaled_jacobian};
 use crate::geom::Vec3;
@@ -83,18 +83,10 @@ pub fn describe_motion(model: &Model, layout: &Layout, dq: &DVector<f64>, length
     for (b, &p) in layout.moving.iter().enumerate() {
         let x = Vec3::new(dq[6 * b], dq[6 * b + 1], dq[6 * b + 2]);
         let th = Vec3::new(dq[6 * b + 3], dq[6 * b + 4], dq[6 * b + 5]);
-        let pts: Vec<Vec3> = model
-            .markers
-            .iter()
-            .filter(|m| m.part == p)
-            .map(|m| m.origin())
-            .collect();
-        let c = if pts.is_empty() {
-            Vec3::zeros()
-        } else {
-            pts.iter().sum::<Vec3>() / pts.len() as f64
-        };
-        let vc = x + th.cross(&c);
+        // The motion of the markers' centroid, from the twist of the
+        // reference point (the centroid itself in a problem's layout).
+        let c = marker_centroid(model, p);
+        let vc = x + th.cross(&(c - layout.reference[p.index()]));
         let size = vc.norm() + th.norm() * length;
         if size > best.0 {
             best = (size, b, th, vc, c);
@@ -137,57 +129,31 @@ pub fn describe_motion(model: &Model, layout: &Layout, dq: &DVector<f64>, length
 
 /// The coordinates the analysis uses, part by part: `(v, φ)` with `v` the
 /// velocity of the part's centroid `c` and `φ = l θ` its rotation times the
-/// mechanism's size `l`; the solver's coordinates are `x = v + c × φ / l`,
-/// `θ = φ / l` (`dq = T dq'`, block-diagonal `T`, applied block by block).
+/// mechanism's size `l`; the solver's coordinates (the velocity `x` of the
+/// part's reference point `r`, [`Layout::reference`], and `θ`) are
+/// `x = v + (c - r) × φ / l`, `θ = φ / l` (`dq = T dq'`, block-diagonal `T`,
+/// applied block by block).
 pub struct PartFrames {
-    /// Per moving part (layout order): centroid (mm, design) and the length
-    /// rotations are scaled by (mm, at least 1).
+    /// Per moving part (layout order): centroid from the reference point
+    /// (mm, design) and the length rotations are scaled by (mm, at least 1).
     frames: Vec<(Vec3, f64)>,
 }
 
 impl PartFrames {
     /// Each moving part's centroid of connection markers (those the joints
-    /// and force elements attach to; all its markers when it has none), and
-    /// the size of the mechanism: the largest distance of a connection
-    /// marker from their common centroid.
+    /// and force elements attach to; all its markers when it has none:
+    /// [`reference_points`]), from the point `layout`'s coordinates refer
+    /// to, and the size of the mechanism: the largest distance of a
+    /// connection marker from their common centroid.
     pub fn new(model: &Model, layout: &Layout) -> PartFrames {
-        let mut connected = vec![false; model.markers.len()];
-        let pairs = model
-            .joints
-            .iter()
-            .map(|j| (j.i, j.j))
-            .chain(model.bushings.iter().map(|b| (b.i, b.j)))
-            .chain(model.springs.iter().map(|s| (s.i, s.j)))
-            .chain(model.stops.iter().map(|s| (s.i, s.j)));
-        for (i, j) in pairs {
-            for m in [i, j] {
-                if let Some(c) = connected.get_mut(m.index()) {
-                    *c = true;
-                }
-            }
-        }
+        let centres = reference_points(model);
+        let connected = connection_markers(model);
+        // (From the point the solver's coordinates refer to: none in a
+        // problem's layout, whose reference points are these centroids.)
         let frames = layout
             .moving
             .iter()
-            .map(|&p| {
-                let on = |only: bool| -> Vec<Vec3> {
-                    model
-                        .markers
-                        .iter()
-                        .enumerate()
-                        .filter(|(k, m)| m.part == p && (!only || connected[*k]))
-                        .map(|(_, m)| m.origin())
-                        .collect()
-                };
-                let mut pts = on(true);
-                if pts.is_empty() {
-                    pts = on(false);
-                }
-                if pts.is_empty() {
-                    return Vec3::zeros();
-                }
-                pts.iter().sum::<Vec3>() / pts.len() as f64
-            })
+            .map(|p| centres[p.index()] - layout.reference[p.index()])
             .collect::<Vec<Vec3>>();
         let pts: Vec<Vec3> = model
             .markers
@@ -247,7 +213,13 @@ impl PartFrames {
 
 /// Mobility of a problem at design: counts, redundancy, unrestrained motions.
 pub fn analyse(p: &Problem) -> Mobility {
-    let (model, layout) = (&p.model, &p.layout);
+    // In the frame origins' coordinates (recentred by `PartFrames`), not the
+    // problem's: where the design carries a preload (a compressed spring, a
+    // bushing written twisted) the stiffness there is not a true second
+    // derivative, and it depends on the point the rotations are taken about;
+    // the verdicts keep the coordinates they were measured in.
+    let model = &p.model;
+    let layout = &Layout::new(model);
     let design = State::design(model);
     let all: Vec<usize> = (0..p.equations.len()).collect();
     let frames = PartFrames::new(model, layout);

@@ -87,7 +87,7 @@ impl Problem {
 
     /// Compiles without requiring a ground (mobility analysis reports the floating motions).
     fn compile(model: &Model) -> Problem {
-        let layout = Layout::new(model);
+        let layout = Layout::centred(model);
         let equations = constraint::equations(model);
         let pts: Vec<Vec3> = model.markers.iter().map(|m| m.origin()).collect();
         let c = if pts.is_empty() {

@@ -122,6 +122,9 @@ pub struct CaseSensitivity {
     /// vector, `R ← exp(dθ~) R`), per internal unit of the parameter.
     pub dq: DMatrix<f64>,
     block_of_part: Vec<Option<usize>>,
+    /// Each part's reference point, whose displacement `dx` is
+    /// ([`super::coords::Layout::reference`]).
+    reference: Vec<Vec3>,
 }
 
 impl CaseSensitivity {
@@ -130,7 +133,8 @@ impl CaseSensitivity {
         self.dq.ncols()
     }
 
-    /// `(dx, dθ)` of `part`'s frame per unit of parameter `j` (zero for ground).
+    /// `(dx, dθ)` of `part` per unit of parameter `j` (zero for ground):
+    /// the displacement of its reference point and its rotation.
     pub fn part(&self, part: PartId, j: usize) -> (Vec3, Vec3) {
         match self.block_of_part.get(part.index()).copied().flatten() {
             Some(b) => (
@@ -153,7 +157,12 @@ impl CaseSensitivity {
     /// coordinates) on `part`, at `state`: a column per parameter.
     pub fn point(&self, state: &State, part: PartId, local: &Vec3) -> Matrix3xX<f64> {
         let (_, r) = state.part_pose(part);
-        let g: Mat3 = -skew(&(r * local));
+        let c = self
+            .reference
+            .get(part.index())
+            .copied()
+            .unwrap_or_default();
+        let g: Mat3 = -skew(&(r * (local - c)));
         let mut out = Matrix3xX::zeros(self.params());
         for j in 0..self.params() {
             let (dx, dth) = self.part(part, j);
@@ -330,6 +339,7 @@ pub(crate) fn at_equilibrium<P: Parameter>(
     Ok(CaseSensitivity {
         dq,
         block_of_part: problem.layout.block_of_part.clone(),
+        reference: problem.layout.reference.clone(),
     })
 }
 
@@ -384,6 +394,7 @@ pub fn path_by_differences<P: Parameter, L: AsRef<[PointLoad]>>(
         .map(|dq| CaseSensitivity {
             dq,
             block_of_part: problem.layout.block_of_part.clone(),
+            reference: problem.layout.reference.clone(),
         })
         .collect())
 }

@@ -3,7 +3,9 @@
 //! Every element of the statics backend (joint primitives as unit reactions,
 //! bushings, springs, stops, point loads) reduces to one shape: a force `g` on
 //! part I applied at arm `r_i` from I's origin, the opposite force on part J at
-//! arm `rho` from J's origin, a torque `m` on I and `-m` on J. With the local
+//! arm `rho` from J's origin, a torque `m` on I and `-m` on J (a part's
+//! origin here is the point its coordinates refer to,
+//! [`super::coords::Layout::reference`]). With the local
 //! coordinate order `[dx_I, theta_I, dx_J, theta_J]` (12), the generalised force
 //! is `[g; r_i × g + m; -g; -(rho × g) - m]`. Its derivative follows from the
 //! derivatives of `g, m, r_i, rho` (3×12 each), which each element supplies.

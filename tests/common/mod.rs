@@ -96,3 +96,30 @@ pub fn stopping(
 pub fn share_of_stopping(d: f64, r: f64, a: (f64, f64), b: (f64, f64)) -> f64 {
     (d / (a.0 + b.0)).max(r / (2f64.sqrt() * (a.1 + b.1)))
 }
+
+/// Where the point `at` (global at design) of a part is in a solved state,
+/// and the part's rotation.
+pub fn pose_at(
+    m: &axle::model::Model,
+    e: &axle::statics::Equilibrium,
+    part: &str,
+    at: &axle::geom::Vec3,
+) -> (axle::geom::Vec3, axle::geom::Mat3) {
+    let p = m.part_named(part).unwrap_or_else(|| panic!("part {part}"));
+    let (t, r) = e.state.part_pose(p);
+    (t + r * at, r)
+}
+
+/// A part's reference point at design (`statics::coords::reference_points`),
+/// where `stopping` bounds its distance.
+pub fn reference(m: &axle::model::Model, part: &str) -> axle::geom::Vec3 {
+    let p = m.part_named(part).unwrap_or_else(|| panic!("part {part}"));
+    axle::statics::coords::reference_points(m)[p.index()]
+}
+
+/// A part's stopping error `(mm, rad)` at its reference point `from`,
+/// moved to the point `to` of the part (both at design): the rotation's
+/// error moves `to` by at most its angle times the lever.
+pub fn stopping_at(stop: (f64, f64), from: &axle::geom::Vec3, to: &axle::geom::Vec3) -> (f64, f64) {
+    (stop.0 + stop.1 * (to - from).norm(), stop.1)
+}
