@@ -148,8 +148,9 @@ impl PartFrames {
     pub fn new(model: &Model, layout: &Layout) -> PartFrames {
         let centres = reference_points(model);
         let connected = connection_markers(model);
-        // (From the point the solver's coordinates refer to: none in a
-        // problem's layout, whose reference points are these centroids.)
+        // (From the point `layout`'s coordinates refer to: the frame origin
+        // in the checker's analysis, `analyse`; in a problem's centred
+        // layout they are these centroids already.)
         let frames = layout
             .moving
             .iter()
