@@ -10,7 +10,7 @@ use axle::statics::{self, Equilibrium};
 
 mod common;
 
-use common::{checked, example, share_of_stopping, solve, stopping};
+use common::{checked, example, share_of_stopping, solve, stopping, stopping_at};
 
 fn metrics(m: &Model, set: &str) -> Vec<axle::kc::AxleMetrics> {
     let id = m.load_set_named(set).expect("set");
@@ -62,7 +62,7 @@ fn worst_difference(ma: &Model, ea: &[Equilibrium], mb: &Model, eb: &[Equilibriu
             let (ta, tb) = (ta + ra * ca, tb + rb * ca);
             let (d, r) = ((ta - tb).norm(), (ra - rb).norm());
             let (a, b) = (sa[k][name], sb[k][name]);
-            let b = (b.0 + b.1 * (ca - cb).norm(), b.1);
+            let b = stopping_at(b, &cb, &ca);
             worst.mm = worst.mm.max(d);
             worst.rotation = worst.rotation.max(r);
             worst.share = worst.share.max(share_of_stopping(d, r, a, b));
