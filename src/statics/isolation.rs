@@ -153,10 +153,11 @@ mod tests {
     /// `A_f` is passed over only where it could not have stood in: on
     /// every example's load sets (solved along their paths; failing sets,
     /// as a four-bar pushed through its limit, end where they end) and the
-    /// car's curb and laden cases from new solvers (where the rule skips,
-    /// so the test fails without it), for every `A_f` passed over (by its
-    /// own estimate or the problem's guess) the distance bound fails and
-    /// the estimate of `‖E‖` exceeds `STAND_IN`.
+    /// car's curb and laden cases from new solvers, and the car's design
+    /// matrix judged with its curb equilibrium's factors (where the rule
+    /// skips, so the test fails without it), for every `A_f` passed over
+    /// (by its own estimate or the problem's guess) the distance bound
+    /// fails and the estimate of `‖E‖` exceeds `STAND_IN`.
     #[test]
     fn the_skipped_perturbation_estimates_would_have_refused() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
@@ -179,10 +180,22 @@ mod tests {
         let p = Problem::new(&car).expect("problem");
         let set = car.load_set_named("vehicle").expect("the vehicle set");
         let cases = set_loads(&car, set).expect("loads");
-        let curb = solve_case(&p, &cases[0], &crate::statics::State::design(&car)).expect("solves");
+        let design = crate::statics::State::design(&car);
+        let curb = solve_case(&p, &cases[0], &design).expect("solves");
         solve_case(&p, &cases[1], &curb.state).expect("solves");
+        // (Five before the parts' coordinates were centred, one since,
+        // none since the seed's columns are chosen with its pivots.) A
+        // matrix far from the one factorised: the car's at design, judged
+        // with the factors of its curb equilibrium's.
+        let mut sv = Solver::new(&p, &design);
+        sv.ws
+            .eval(&p, &curb.state, &cases[0], true)
+            .expect("evaluates");
+        assert!(sv.factor_matrix());
+        sv.factored = true;
+        sv.ws.eval(&p, &design, &[], true).expect("evaluates");
+        equilibrium_condition(&p, &mut sv);
         let skipped = SKIPPED.with(|s| s.take());
-        // (Five before the parts' coordinates were centred, one since.)
         assert!(!skipped.is_empty(), "nothing skipped");
         for (bound, delta) in skipped {
             assert!(

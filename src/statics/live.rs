@@ -22,14 +22,15 @@ const DROP: f64 = 1e-14;
 /// it is zero in every matrix: a joint's equation involves three of a part's
 /// six coordinates, and a joint's curvature only its rotations. The seed
 /// pivots' slots ([`super::tangent::seed_pivots`]) are 385 of the 828 on one
-/// McPherson corner, where a refactorisation on them takes 1 736
-/// multiply-adds instead of 4 116 on all, and 1 902 of 4 824 on the car
-/// (10 401 instead of 33 427; `docs/performance.md`). A matrix with an
+/// McPherson corner, where a refactorisation on them took 1 736
+/// multiply-adds instead of 4 116 on all (on AMD's orders; 1 346 since
+/// the seed's columns are ordered with its pivots), and 1 902 of 4 824 on
+/// the car (10 401 instead of 33 427; `docs/performance.md`). A matrix with an
 /// entry above [`DROP`] outside them (a stop coming into contact) widens
 /// them for the solver that met it ([`SparseLu::factor`]).
 #[derive(Debug)]
 pub(crate) struct Live {
-    /// The pattern of the live slots, with its own fill-reducing order.
+    /// The pattern of the live slots, with its own column order.
     pub(super) pattern: Pattern,
     /// Per slot of `pattern`, the slot of the full pattern it is.
     pub(super) from: Vec<usize>,
@@ -47,13 +48,8 @@ pub(crate) struct Live {
 }
 
 impl Live {
-    /// The slots of `full` that `keep` holds; None if the fill-reducing
-    /// order cannot be computed.
-    pub fn new(full: &Pattern, keep: &[bool]) -> Option<Live> {
-        Live::ordered(full, keep, true)
-    }
-
-    /// [`Live::new`] with its own fill-reducing order (`reorder`) or `full`'s.
+    /// The slots of `full` that `keep` holds, with their own fill-reducing
+    /// order (AMD's, `reorder`) or `full`'s; None if AMD fails.
     pub fn ordered(full: &Pattern, keep: &[bool], reorder: bool) -> Option<Live> {
         let pattern = full.restricted(keep, reorder)?;
         let from: Vec<usize> = (0..full.nnz()).filter(|&k| keep[k]).collect();
@@ -119,11 +115,13 @@ impl Live {
         })
     }
 
-    /// These slots and the [`significant`](Self::significant) ones of `values`.
+    /// These slots and the [`significant`](Self::significant) ones of
+    /// `values`, in `full`'s column order (the factorisation that widens
+    /// chooses its own).
     pub fn widened(&self, full: &Pattern, values: &[f64]) -> Option<Live> {
         let mut keep = Live::significant(values);
         self.from.iter().for_each(|&k| keep[k] = true);
-        Live::new(full, &keep)
+        Live::ordered(full, &keep, false)
     }
 
     /// The slots kept, of how many.

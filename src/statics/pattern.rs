@@ -54,7 +54,8 @@ pub(crate) struct Pattern {
     /// Per column, the end of its coordinate rows (they come first, the
     /// multipliers' after; a multiplier's column has only coordinate rows).
     pub coord_end: Vec<usize>,
-    /// A fill-reducing column order (AMD) and its inverse, for the sparse LU.
+    /// A fill-reducing column order (AMD, or the one a factorisation chose,
+    /// [`Pattern::set_order`]) and its inverse, for the sparse LU.
     pub order: Vec<usize>,
     pub order_inv: Vec<usize>,
     /// The pivots every sparse LU of the problem starts from (those of the
@@ -178,6 +179,15 @@ impl Pattern {
             pivots: std::sync::OnceLock::new(),
             ..self.clone()
         })
+    }
+
+    /// Factorises with the columns in `order` (a permutation of them).
+    pub fn set_order(&mut self, order: Vec<usize>) {
+        self.order_inv.resize(order.len(), 0);
+        for (k, &c) in order.iter().enumerate() {
+            self.order_inv[c] = k;
+        }
+        self.order = order;
     }
 
     /// The coordinates (the first rows and columns; the multipliers follow).

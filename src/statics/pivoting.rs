@@ -19,6 +19,15 @@
 //! coupled corners (`docs/performance.md`), whose work now grows with their
 //! number about as the corners do (1.34 times eight corners').
 //!
+//! The first factorisation of a problem (its seed pivots) and of slots
+//! widened along a path choose each step's column too
+//! ([`factor_choosing_columns`]): the entry of least Markowitz cost over the
+//! whole active submatrix, threshold as above. The AMD order plans for a
+//! symmetric elimination, which a multiplier's zero diagonal does not
+//! allow; choosing the columns with the pivots cuts a refactorisation's
+//! multiply-adds by a fifth on the McPherson and by two fifths to a half
+//! on the car. Later fresh factorisations keep the order so chosen.
+//!
 //! Entries are kept when their value is zero (a stop out of contact, a term
 //! that vanishes at design): the structure must hold every matrix of the
 //! pattern, not only this one.
@@ -146,6 +155,81 @@ pub(crate) fn factor(
     row_perm: &mut [usize],
     row_perm_inv: &mut [usize],
 ) -> bool {
+    eliminate(pattern, values, None, f, row_perm, row_perm_inv)
+}
+
+/// [`factor`] choosing each step's column as well as its row: of the
+/// entries that pass [`THRESHOLD`] in their column, the one of least
+/// Markowitz cost `(r - 1)(c - 1)` (its row's and its column's active
+/// entries: the fill its step can make), ties to the shorter column, then
+/// to the larger entry relative to its column. The symmetric order (AMD)
+/// cannot see that a multiplier's column has a zero diagonal, so every
+/// multiplier's pivot is a row swap it did not plan for; this pass plans
+/// them. On the McPherson at design the refactorisation's multiply-adds
+/// fall from 1 736 to 1 346. Returns the column order taken (the
+/// pattern's is ignored), for the pattern the factors are of; None where
+/// [`factor`] is false.
+pub(crate) fn factor_choosing_columns(
+    pattern: &Pattern,
+    values: &[f64],
+    f: &mut Factors,
+    row_perm: &mut [usize],
+    row_perm_inv: &mut [usize],
+) -> Option<Vec<usize>> {
+    let mut order = Vec::with_capacity(pattern.dim());
+    eliminate(pattern, values, Some(&mut order), f, row_perm, row_perm_inv).then_some(order)
+}
+
+/// The least-cost pivot of the active submatrix (`rows` of the rows not
+/// `pivoted`, each column's active entries in `count`), as
+/// [`factor_choosing_columns`] chooses it: `(row, column)`; None if no
+/// entry is a non-zero number. `max` is scratch of the matrix's size.
+fn markowitz_pivot(
+    rows: &[Vec<(usize, f64)>],
+    pivoted: &[bool],
+    count: &[usize],
+    max: &mut [f64],
+) -> Option<(usize, usize)> {
+    max.fill(0.0);
+    let active = || rows.iter().enumerate().filter(|(i, _)| !pivoted[*i]);
+    for (_, row) in active() {
+        for &(c, v) in row {
+            max[c] = max[c].max(v.abs());
+        }
+    }
+    // (cost, column count, entry over its column's largest, row, column)
+    let mut best: Option<(usize, usize, f64, usize, usize)> = None;
+    for (i, row) in active() {
+        let r = row.len() - 1;
+        for &(c, v) in row {
+            let (n_c, big) = (count[c], max[c]);
+            let cost = r * n_c.saturating_sub(1);
+            // (The cheap test first: most entries cost more.)
+            if best.is_some_and(|(bc, bn, ..)| (cost, n_c) > (bc, bn))
+                || !(big.is_finite() && big > 0.0 && v.abs() >= THRESHOLD * big)
+            {
+                continue;
+            }
+            let rel = v.abs() / big;
+            let better = best.is_none_or(|(bc, bn, br, _, _)| (cost, n_c) < (bc, bn) || rel > br);
+            if better {
+                best = Some((cost, n_c, rel, i, c));
+            }
+        }
+    }
+    best.map(|(_, _, _, i, c)| (i, c))
+}
+
+/// The elimination of [`factor`], on the pattern's column order, or, with
+/// `chosen`, on the columns [`markowitz_pivot`] chooses (pushed onto it).
+fn eliminate(
+    pattern: &Pattern,
+    values: &[f64],
+    mut chosen: Option<&mut Vec<usize>>,
+    f: &mut Factors,
+    row_perm: &mut [usize],
+    row_perm_inv: &mut [usize],
+) -> bool {
     let n = pattern.dim();
     if values.len() != pattern.nnz() || row_perm.len() != n || row_perm_inv.len() != n {
         return false;
@@ -173,7 +257,23 @@ pub(crate) fn factor(
     let mut met = vec![usize::MAX; n];
     // The column's candidate rows: row, entry, and where the row holds it.
     let mut cand: Vec<(usize, f64, usize)> = Vec::new();
-    for (k, &c) in pattern.order.iter().enumerate() {
+    // For a choice of columns: each column's active entries.
+    let mut count: Vec<usize> = cols.iter().map(Vec::len).collect();
+    let mut max = vec![0.0; n];
+    for k in 0..n {
+        // The Markowitz pivot's row, chosen with its column.
+        let mut planned = None;
+        let c = match chosen.as_deref_mut() {
+            None => pattern.order[k],
+            Some(order) => {
+                let Some((r, c)) = markowitz_pivot(&rows, &pivoted, &count, &mut max) else {
+                    return false;
+                };
+                planned = Some(r);
+                order.push(c);
+                c
+            }
+        };
         cand.clear();
         for &i in &cols[c] {
             if pivoted[i] {
@@ -188,8 +288,12 @@ pub(crate) fn factor(
             return false;
         }
         let qualifies = |v: f64| v.abs() >= THRESHOLD * big;
-        let r = match cand.iter().find(|e| e.0 == c && qualifies(e.1)) {
-            Some(e) => e.0,
+        let r = match planned.or_else(|| {
+            cand.iter()
+                .find(|e| e.0 == c && qualifies(e.1))
+                .map(|e| e.0)
+        }) {
+            Some(r) => r,
             None => {
                 let mut best: Option<(usize, f64, usize)> = None;
                 for &(i, v, _) in cand.iter().filter(|e| qualifies(e.1)) {
@@ -211,6 +315,9 @@ pub(crate) fn factor(
         pivoted[r] = true;
         row_perm[k] = r;
         let mut urow = std::mem::take(&mut rows[r]);
+        for e in &urow {
+            count[e.0] -= 1;
+        }
         let Some(&(_, piv, pos)) = cand.iter().find(|e| e.0 == r) else {
             return false;
         };
@@ -238,6 +345,7 @@ pub(crate) fn factor(
                 if met[cc] != i {
                     row.push((cc, -l * v));
                     cols[cc].push(i);
+                    count[cc] += 1;
                 }
             }
         }
@@ -251,7 +359,19 @@ pub(crate) fn factor(
     for (k, &r) in row_perm.iter().enumerate() {
         row_perm_inv[r] = k;
     }
-    let order_inv = &pattern.order_inv;
+    // The columns' pivot positions: the pattern's, or those taken.
+    let taken;
+    let order_inv = match &chosen {
+        None => &pattern.order_inv,
+        Some(order) => {
+            let mut inv = vec![0; n];
+            for (k, &c) in order.iter().enumerate() {
+                inv[c] = k;
+            }
+            taken = inv;
+            &taken
+        }
+    };
     // L by columns, rows as pivot positions, the unit diagonal first.
     f.l_ptr.clear();
     f.l_idx.clear();

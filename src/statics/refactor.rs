@@ -269,4 +269,52 @@ mod tests {
             assert!(!plan.run(&mut g, &w, 1e6));
         }
     }
+
+    /// The elimination that chooses its columns with its pivots (threshold
+    /// Markowitz) factorises the matrix in the order it took: `L U` is the
+    /// matrix so permuted, to rounding; every pivot is at least the
+    /// threshold (0.1) of the largest entry below it in its column, the
+    /// bound on each step's growth that the elimination on a given order
+    /// keeps (checked by the plan, which computes the same factors to the
+    /// bit); and a refactorisation takes fewer multiply-adds than with the
+    /// pattern's AMD order, on the McPherson's pattern and two coupled
+    /// corners' (3 366 against 4 609 and 7 231 against 10 605: the whole
+    /// patterns, random values).
+    #[test]
+    fn the_columns_chosen_with_the_pivots_factorise_the_matrix() {
+        for corners in [1, 2] {
+            let (m, _) = coupled_corners(corners);
+            let p = Problem::new(&m).expect("problem");
+            let pat = Pattern::new(&p).expect("pattern");
+            let mut live = Live::all(&pat);
+            let n = pat.dim();
+            let mut rng = Lcg::new(29 + corners as u64);
+            let v = kkt_values(&pat, p.layout.n(), &mut rng, 0.1);
+            let (mut amd, mut perm, mut inv) = (Factors::default(), vec![0; n], vec![0; n]);
+            assert!(pivoting::factor(
+                &live.pattern,
+                &v,
+                &mut amd,
+                &mut perm,
+                &mut inv
+            ));
+            let mut f = Factors::default();
+            let order =
+                pivoting::factor_choosing_columns(&live.pattern, &v, &mut f, &mut perm, &mut inv)
+                    .expect("factors");
+            live.pattern.set_order(order);
+            let err = reconstruction_error(&f, &live.pattern, &v, &inv);
+            assert!(err < 1e-14, "N = {corners}: {err:e}");
+            let (chosen, given) = (f.updates(), amd.updates());
+            eprintln!("N = {corners}: {chosen} multiply-adds against {given}");
+            assert!(chosen < given, "N = {corners}: {chosen} against {given}");
+            let plan = Plan::new(&f, &live, &inv).expect("a plan");
+            let mut g = f.clone();
+            assert!(
+                plan.run(&mut g, &v, 0.1),
+                "N = {corners}: a pivot under 0.1"
+            );
+            assert!(g.l_val == f.l_val && g.u_val == f.u_val);
+        }
+    }
 }

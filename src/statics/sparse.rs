@@ -3,9 +3,10 @@
 //! distance to another matrix, condition estimate) for models too large for
 //! the dense elimination (see [`super::tangent`] for the choice).
 //!
-//! The fill-reducing column order is the pattern's, computed once per
-//! problem. A fresh factorisation ([`pivoting`]) chooses the pivot rows by
-//! threshold and fill (a row swap is safe for the zero diagonal block of the
+//! The column order is chosen with the pivots of the problem's first
+//! factorisation (its seed pivots), and again when a matrix widens the
+//! slots factorised. A fresh factorisation ([`pivoting`]) chooses the
+//! pivot rows by threshold and fill (a row swap is safe for the zero diagonal block of the
 //! multipliers), and its work follows the non-zeros of the factors, so that
 //! a chain of N coupled corners costs N times one corner, not N³. Finding
 //! each column's structure costs more than its arithmetic, so the next
@@ -57,6 +58,7 @@ pub(crate) struct Pivots {
 
 impl Pivots {
     /// The multiply-adds of a refactorisation with these pivots.
+    #[cfg(test)]
     pub fn updates(&self) -> usize {
         self.own.updates()
     }
@@ -90,6 +92,9 @@ pub(crate) struct SparseLu {
     valid: bool,
     /// Whether the last factorisation reused earlier pivots.
     last_reused: bool,
+    /// Whether a fresh factorisation chooses the columns' order too
+    /// ([`Self::factor_choosing_columns`]).
+    choose_columns: bool,
     /// Fresh factorisations and refactorisations with the previous pivots.
     pub fresh: usize,
     pub reused: usize,
@@ -121,6 +126,7 @@ impl SparseLu {
             reusable: false,
             valid: false,
             last_reused: false,
+            choose_columns: false,
             fresh: 0,
             reused: 0,
             work: vec![0.0; n],
@@ -187,6 +193,9 @@ impl SparseLu {
             self.reusable = false;
             self.widened += 1;
             self.a_max = self.gather(values);
+            // New slots, this factorisation's own: their columns' order is
+            // chosen with the pivots, as the seed's was.
+            self.choose_columns = true;
         }
         self.last_reused =
             self.reusable && self.plan.run(&mut self.own, &self.live_a, PIVOT_THRESHOLD);
@@ -197,6 +206,7 @@ impl SparseLu {
         }
         self.fresh += 1;
         let ok = self.factor_fresh();
+        self.choose_columns = false;
         let plan = ok
             .then(|| Plan::new(&self.own, &self.live, &self.row_perm_inv))
             .flatten();
@@ -236,8 +246,36 @@ impl SparseLu {
         largest(&self.live_a)
     }
 
+    /// [`Self::factor`] with fresh pivots whose columns are chosen with
+    /// them ([`pivoting::factor_choosing_columns`]); the live slots' order
+    /// becomes the one taken. For the seed pivots, on slots of this
+    /// factorisation's own ([`Self::starting_with`]); elsewhere (slots
+    /// shared with another solver) the pattern's order is kept.
+    pub fn factor_choosing_columns(&mut self, values: &[f64]) -> bool {
+        self.reusable = false;
+        self.choose_columns = true;
+        let ok = self.factor(values);
+        self.choose_columns = false;
+        ok
+    }
+
     /// A factorisation of `live_a` with fresh pivots ([`pivoting`]) into `own`.
     fn factor_fresh(&mut self) -> bool {
+        if self.choose_columns
+            && let Some(live) = Arc::get_mut(&mut self.live)
+        {
+            let Some(order) = pivoting::factor_choosing_columns(
+                &live.pattern,
+                &self.live_a,
+                &mut self.own,
+                &mut self.row_perm,
+                &mut self.row_perm_inv,
+            ) else {
+                return false;
+            };
+            live.pattern.set_order(order);
+            return true;
+        }
         let (p, f) = (&self.live.pattern, &mut self.own);
         pivoting::factor(
             p,

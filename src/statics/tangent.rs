@@ -104,25 +104,26 @@ fn seed(p: &super::Problem, pat: &Arc<Pattern>) -> Option<super::sparse::Pivots>
             .zip(Live::significant(g))
             .for_each(|(k, s)| *k |= s);
     }
-    // AMD's order of the live slots, or the whole pattern's: whichever
-    // refactorises with fewer multiply-adds (AMD's on the car, the whole
-    // pattern's on two and eight coupled corners: 4 753 against 4 907,
-    // 24 856 against 27 079). On one McPherson corner they tie (1 736 and
-    // 1 742), so below `2 * SPARSE_FROM` unknowns AMD's is taken without
-    // the second fresh factorisation.
-    let factored = |reorder: bool| {
-        let mut lu = SparseLu::starting_with(pat.clone(), Live::ordered(pat, &keep, reorder)?);
-        if lu.factor(v) { lu.pivots() } else { None }
+    // The columns' order chosen with the pivots (threshold Markowitz,
+    // [`pivoting::factor_choosing_columns`]), or, should that fail, AMD's
+    // order of the live slots. Measured at design, the multiply-adds of a
+    // refactorisation with the order chosen against the better of AMD's
+    // and the whole pattern's (the order taken until then): McPherson
+    // 1 346 against 1 736; the car 6 032 against 9 758, with 35 parts
+    // 7 643 against 14 350; two corners 2 692 against 3 472, coupled 4 016
+    // against 4 109; eight corners 10 768 against 13 888, coupled 18 140
+    // against 19 000 (`docs/performance.md`).
+    let factored = |choose: bool| {
+        let live = Live::ordered(pat, &keep, !choose)?;
+        let mut lu = SparseLu::starting_with(pat.clone(), live);
+        let ok = if choose {
+            lu.factor_choosing_columns(v)
+        } else {
+            lu.factor(v)
+        };
+        if ok { lu.pivots() } else { None }
     };
-    let other = || {
-        (pat.dim() >= 2 * SPARSE_FROM)
-            .then(|| factored(false))
-            .flatten()
-    };
-    match (factored(true), other()) {
-        (Some(a), Some(b)) => Some(if b.updates() < a.updates() { b } else { a }),
-        (a, b) => a.or(b),
-    }
+    factored(true).or_else(|| factored(false))
 }
 
 /// The Newton matrix's values (in the pattern's slots) at a generic state
