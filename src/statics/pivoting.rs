@@ -260,7 +260,7 @@ fn eliminate(
     // For a choice of columns: each column's active entries.
     let mut count: Vec<usize> = cols.iter().map(Vec::len).collect();
     let mut max = vec![0.0; n];
-    for k in 0..n {
+    for (k, pivot_row) in row_perm.iter_mut().enumerate() {
         // The Markowitz pivot's row, chosen with its column.
         let mut planned = None;
         let c = match chosen.as_deref_mut() {
@@ -313,7 +313,7 @@ fn eliminate(
             }
         };
         pivoted[r] = true;
-        row_perm[k] = r;
+        *pivot_row = r;
         let mut urow = std::mem::take(&mut rows[r]);
         for e in &urow {
             count[e.0] -= 1;
