@@ -116,12 +116,13 @@ impl Live {
     }
 
     /// These slots and the [`significant`](Self::significant) ones of
-    /// `values`, in `full`'s column order (the factorisation that widens
-    /// chooses its own).
+    /// `values`, in these slots' column order.
     pub fn widened(&self, full: &Pattern, values: &[f64]) -> Option<Live> {
         let mut keep = Live::significant(values);
         self.from.iter().for_each(|&k| keep[k] = true);
-        Live::ordered(full, &keep, false)
+        let mut live = Live::ordered(full, &keep, false)?;
+        live.pattern.set_order(self.pattern.order.clone());
+        Some(live)
     }
 
     /// The slots kept, of how many.

@@ -19,14 +19,16 @@
 //! coupled corners (`docs/performance.md`), whose work now grows with their
 //! number about as the corners do (1.34 times eight corners').
 //!
-//! The first factorisation of a problem (its seed pivots) and of slots
-//! widened along a path choose each step's column too
-//! ([`factor_choosing_columns`]): the entry of least Markowitz cost over the
-//! whole active submatrix, threshold as above. The AMD order plans for a
-//! symmetric elimination, which a multiplier's zero diagonal does not
-//! allow; choosing the columns with the pivots cuts a refactorisation's
-//! multiply-adds by a fifth on the McPherson and by two fifths to a half
-//! on the car. Later fresh factorisations keep the order so chosen.
+//! The first factorisation of a problem (its seed pivots) chooses each
+//! step's column too ([`factor_choosing_columns`]): the entry of least
+//! Markowitz cost over the whole active submatrix, threshold as above. The
+//! AMD order plans for a symmetric elimination, which a multiplier's zero
+//! diagonal does not allow; choosing the columns with the pivots cuts a
+//! refactorisation's multiply-adds by a fifth on the McPherson and by two
+//! fifths to a half on the car. Later fresh factorisations, also on slots
+//! widened along a path, keep the order so chosen: a search over the whole
+//! active submatrix at every step, made again where a bump stop widened
+//! the slots, cost more than it saved over the car's 100-step sweep.
 //!
 //! Entries are kept when their value is zero (a stop out of contact, a term
 //! that vanishes at design): the structure must hold every matrix of the

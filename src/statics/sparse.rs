@@ -4,7 +4,7 @@
 //! the dense elimination (see [`super::tangent`] for the choice).
 //!
 //! The column order is chosen with the pivots of the problem's first
-//! factorisation (its seed pivots), and again when a matrix widens the
+//! factorisation (its seed pivots) and kept, also when a matrix widens the
 //! slots factorised. A fresh factorisation ([`pivoting`]) chooses the
 //! pivot rows by threshold and fill (a row swap is safe for the zero diagonal block of the
 //! multipliers), and its work follows the non-zeros of the factors, so that
@@ -193,9 +193,6 @@ impl SparseLu {
             self.reusable = false;
             self.widened += 1;
             self.a_max = self.gather(values);
-            // New slots, this factorisation's own: their columns' order is
-            // chosen with the pivots, as the seed's was.
-            self.choose_columns = true;
         }
         self.last_reused =
             self.reusable && self.plan.run(&mut self.own, &self.live_a, PIVOT_THRESHOLD);
@@ -206,7 +203,6 @@ impl SparseLu {
         }
         self.fresh += 1;
         let ok = self.factor_fresh();
-        self.choose_columns = false;
         let plan = ok
             .then(|| Plan::new(&self.own, &self.live, &self.row_perm_inv))
             .flatten();
@@ -249,8 +245,8 @@ impl SparseLu {
     /// [`Self::factor`] with fresh pivots whose columns are chosen with
     /// them ([`pivoting::factor_choosing_columns`]); the live slots' order
     /// becomes the one taken. For the seed pivots, on slots of this
-    /// factorisation's own ([`Self::starting_with`]); elsewhere (slots
-    /// shared with another solver) the pattern's order is kept.
+    /// factorisation's own ([`Self::starting_with`]); on slots shared with
+    /// another solver their order is kept.
     pub fn factor_choosing_columns(&mut self, values: &[f64]) -> bool {
         self.reusable = false;
         self.choose_columns = true;
