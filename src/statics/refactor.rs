@@ -223,6 +223,17 @@ mod tests {
         worst / big
     }
 
+    /// The whole KKT pattern of `corners` coupled McPherson corners, all
+    /// its slots live, and values drawn from `rng` (some exactly zero, as
+    /// structural zeros of a real matrix are).
+    fn corners_matrix(corners: usize, rng: &mut Lcg) -> (Live, Vec<f64>) {
+        let (m, _) = coupled_corners(corners);
+        let p = Problem::new(&m).expect("problem");
+        let pat = Pattern::new(&p).expect("pattern");
+        let v = kkt_values(&pat, p.layout.n(), rng, 0.1);
+        (Live::all(&pat), v)
+    }
+
     /// On the KKT patterns of one and two coupled McPherson corners (47 and
     /// 94 unknowns): the plan refactorises the matrix a fresh elimination
     /// factorised into the same factors (the same products in the same
@@ -231,14 +242,9 @@ mod tests {
     #[test]
     fn the_plan_refactorises_as_the_elimination() {
         for corners in [1, 2] {
-            let (m, _) = coupled_corners(corners);
-            let p = Problem::new(&m).expect("problem");
-            let pat = Pattern::new(&p).expect("pattern");
-            let live = Live::all(&pat);
-            let n = pat.dim();
             let mut rng = Lcg::new(17 + corners as u64);
-            // Some slots exactly zero, as structural zeros of a real matrix are.
-            let v = kkt_values(&pat, p.layout.n(), &mut rng, 0.1);
+            let (live, v) = corners_matrix(corners, &mut rng);
+            let n = live.pattern.dim();
             let (mut f, mut perm, mut inv) = (Factors::default(), vec![0; n], vec![0; n]);
             assert!(pivoting::factor(
                 &live.pattern,
@@ -283,13 +289,9 @@ mod tests {
     #[test]
     fn the_columns_chosen_with_the_pivots_factorise_the_matrix() {
         for corners in [1, 2] {
-            let (m, _) = coupled_corners(corners);
-            let p = Problem::new(&m).expect("problem");
-            let pat = Pattern::new(&p).expect("pattern");
-            let mut live = Live::all(&pat);
-            let n = pat.dim();
             let mut rng = Lcg::new(29 + corners as u64);
-            let v = kkt_values(&pat, p.layout.n(), &mut rng, 0.1);
+            let (mut live, v) = corners_matrix(corners, &mut rng);
+            let n = live.pattern.dim();
             let (mut amd, mut perm, mut inv) = (Factors::default(), vec![0; n], vec![0; n]);
             assert!(pivoting::factor(
                 &live.pattern,
