@@ -202,7 +202,8 @@ fn markowitz_pivot(
     // (cost, column count, entry over its column's largest, row, column)
     let mut best: Option<(usize, usize, f64, usize, usize)> = None;
     for (i, row) in active() {
-        let r = row.len() - 1;
+        // (An empty row, a singular matrix's, has no entry to look at.)
+        let r = row.len().saturating_sub(1);
         for &(c, v) in row {
             let (n_c, big) = (count[c], max[c]);
             let cost = r * n_c.saturating_sub(1);
@@ -431,3 +432,7 @@ fn eliminate(
     f.rows = rows;
     f.l_val.iter().chain(&f.u_val).all(|v| v.is_finite())
 }
+
+#[cfg(test)]
+#[path = "pivoting_tests.rs"]
+mod tests;

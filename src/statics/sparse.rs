@@ -6,12 +6,12 @@
 //! The column order is chosen with the pivots of the problem's first
 //! factorisation (its seed pivots) and kept, also when a matrix widens the
 //! slots factorised. A fresh factorisation ([`pivoting`]) chooses the
-//! pivot rows by threshold and fill (a row swap is safe for the zero diagonal block of the
-//! multipliers), and its work follows the non-zeros of the factors, so that
-//! a chain of N coupled corners costs N times one corner, not N³. Finding
-//! each column's structure costs more than its arithmetic, so the next
-//! matrix is refactorised KLU's way:
-//! with the previous pivot sequence and the structure of L and U (the same
+//! pivot rows by threshold and fill (a row swap is safe for the zero
+//! diagonal block of the multipliers), and its work follows the non-zeros
+//! of the factors, so that a chain of N coupled corners costs N times one
+//! corner, not N³. Finding each column's structure costs more than its
+//! arithmetic, so the next matrix is refactorised KLU's way: with the
+//! previous pivot sequence and the structure of L and U (the same
 //! for every matrix of the pattern with those pivots), numbers only
 //! ([`super::refactor::Plan`]: the products each entry of the factors is
 //! made of, listed once per structure), as long as every pivot keeps at
