@@ -92,9 +92,6 @@ pub(crate) struct SparseLu {
     valid: bool,
     /// Whether the last factorisation reused earlier pivots.
     last_reused: bool,
-    /// Whether a fresh factorisation chooses the columns' order too
-    /// ([`Self::factor_choosing_columns`]).
-    choose_columns: bool,
     /// Fresh factorisations and refactorisations with the previous pivots.
     pub fresh: usize,
     pub reused: usize,
@@ -126,7 +123,6 @@ impl SparseLu {
             reusable: false,
             valid: false,
             last_reused: false,
-            choose_columns: false,
             fresh: 0,
             reused: 0,
             work: vec![0.0; n],
@@ -176,6 +172,12 @@ impl SparseLu {
     /// Factorises the matrix of `values` (in the pattern's slots); false if a
     /// pivot is zero or not finite.
     pub fn factor(&mut self, values: &[f64]) -> bool {
+        self.factor_with(values, false)
+    }
+
+    /// [`Self::factor`]; a fresh factorisation chooses the columns' order
+    /// too when `choose_columns` ([`Self::factor_choosing_columns`]).
+    fn factor_with(&mut self, values: &[f64], choose_columns: bool) -> bool {
         self.valid = false;
         if values.len() != self.a.len() {
             return false;
@@ -202,7 +204,7 @@ impl SparseLu {
             return true;
         }
         self.fresh += 1;
-        let ok = self.factor_fresh();
+        let ok = self.factor_fresh(choose_columns);
         let plan = ok
             .then(|| Plan::new(&self.own, &self.live, &self.row_perm_inv))
             .flatten();
@@ -249,17 +251,14 @@ impl SparseLu {
     /// another solver their order is kept.
     pub fn factor_choosing_columns(&mut self, values: &[f64]) -> bool {
         self.reusable = false;
-        self.choose_columns = true;
-        let ok = self.factor(values);
-        self.choose_columns = false;
-        ok
+        self.factor_with(values, true)
     }
 
-    /// A factorisation of `live_a` with fresh pivots ([`pivoting`]) into `own`.
-    fn factor_fresh(&mut self) -> bool {
-        if self.choose_columns
-            && let Some(live) = Arc::get_mut(&mut self.live)
-        {
+    /// A factorisation of `live_a` with fresh pivots ([`pivoting`]) into
+    /// `own`, choosing the columns' order too when `choose_columns` and the
+    /// live slots are this factorisation's own.
+    fn factor_fresh(&mut self, choose_columns: bool) -> bool {
+        if choose_columns && let Some(live) = Arc::get_mut(&mut self.live) {
             let Some(order) = pivoting::factor_choosing_columns(
                 &live.pattern,
                 &self.live_a,
