@@ -237,14 +237,18 @@ pub fn marker_centroid(model: &Model, part: PartId) -> Vec3 {
 /// when it has no marker. A marker that connects nothing (a wheel centre
 /// written 30 m away) does not move it.
 pub fn reference_points(model: &Model) -> Vec<Vec3> {
-    let connected = connection_markers(model);
+    reference_points_of(model, &connection_markers(model))
+}
+
+/// [`reference_points`] with the model's [`connection_markers`] at hand.
+pub(crate) fn reference_points_of(model: &Model, connected: &[bool]) -> Vec<Vec3> {
     (0..model.parts.len())
         .map(|p| {
             let on = |only: bool| {
                 model
                     .markers
                     .iter()
-                    .zip(&connected)
+                    .zip(connected)
                     .filter(move |(m, c)| m.part.index() == p && (!only || **c))
                     .map(|(m, _)| m.origin())
             };

@@ -13,7 +13,7 @@
 //! ([`PartFrames`]).
 
 use super::Problem;
-use super::coords::{Layout, State, connection_markers, marker_centroid, reference_points};
+use super::coords::{Layout, State, connection_markers, marker_centroid, reference_points_of};
 use super::forces::element_wrenches;
 use super::redundancy::{RedundantEquation, rank_and_null_space, scaled_jacobian};
 use crate::geom::Vec3;
@@ -142,12 +142,12 @@ pub struct PartFrames {
 impl PartFrames {
     /// Each moving part's centroid of connection markers (those the joints
     /// and force elements attach to; all its markers when it has none:
-    /// [`reference_points`]), from the point `layout`'s coordinates refer
+    /// [`super::coords::reference_points`]), from the point `layout`'s coordinates refer
     /// to, and the size of the mechanism: the largest distance of a
     /// connection marker from their common centroid.
     pub fn new(model: &Model, layout: &Layout) -> PartFrames {
-        let centres = reference_points(model);
         let connected = connection_markers(model);
+        let centres = reference_points_of(model, &connected);
         // (From the point `layout`'s coordinates refer to: the frame origin
         // in the checker's analysis, `analyse`; in a problem's centred
         // layout they are these centroids already.)
