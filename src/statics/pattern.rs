@@ -10,7 +10,8 @@
 //! holds at every state. It is stored by columns (CSC), every column's rows
 //! ascending: the 6 rows of each coupled part, then the multipliers; the six
 //! columns of a part share one row structure, so a 3×3 block lands in three
-//! contiguous runs of the value array found by one search of a short list.
+//! contiguous runs of the value array found by one look-up in a table of
+//! coupled parts.
 
 use super::Problem;
 use super::constraint::evaluate;
@@ -35,6 +36,13 @@ impl ConstraintBlock {
     }
 }
 
+/// A pair of parts not coupled, in [`Pattern`]'s `block_at`.
+const NOT_COUPLED: u32 = u32::MAX;
+
+/// The most parts for which [`Pattern`] tabulates every pair (4 MB of
+/// table; a whole vehicle has tens of parts).
+const BLOCK_TABLE_PARTS: usize = 1024;
+
 #[derive(Debug, Clone)]
 pub(crate) struct Pattern {
     /// Coordinates (6 per moving part) and multipliers.
@@ -42,6 +50,12 @@ pub(crate) struct Pattern {
     m: usize,
     /// Per part, the parts coupled to it (itself included), ascending.
     parts: Vec<Vec<usize>>,
+    /// Per pair of parts `(c, r)` at `c * parts + r`, the position of `r`
+    /// in `parts[c]` ([`NOT_COUPLED`] if absent): the search of
+    /// [`Pattern::block_slots`] done once, a load instead of a binary
+    /// search per 3×3 block scattered. Empty beyond [`BLOCK_TABLE_PARTS`]
+    /// parts, where the search is kept.
+    block_at: Vec<u32>,
     /// Per multiplier, the parts its equation acts on, ascending.
     of_mult: Vec<Vec<usize>>,
     /// Per multiplier `k` and each of its parts `q` (as in `of_mult`), the
@@ -132,10 +146,20 @@ impl Pattern {
             return None;
         }
         let (order, order_inv) = column_order(n + m, &col_ptr, &row_idx)?;
+        let mut block_at = Vec::new();
+        if np <= BLOCK_TABLE_PARTS {
+            block_at = vec![NOT_COUPLED; np * np];
+            for (c, list) in parts.iter().enumerate() {
+                for (t, &r) in list.iter().enumerate() {
+                    block_at[c * np + r] = t as u32;
+                }
+            }
+        }
         Some(Pattern {
             n,
             m,
             parts,
+            block_at,
             of_mult,
             mult_pos,
             col_ptr,
@@ -219,13 +243,26 @@ impl Pattern {
     }
 
     /// The first slots of rows `row..row + 3` in the three columns
-    /// `col..col + 3` of one part (a 3×3 block of `K`): one search for all.
+    /// `col..col + 3` of one part (a 3×3 block of `K`): one look-up for all.
+    #[inline]
     pub fn block_slots(&self, row: usize, col: usize) -> Option<[usize; 3]> {
-        let list = self.parts.get(col / 6)?;
+        let (c, r) = (col / 6, row / 6);
+        let list = self.parts.get(c)?;
         if col % 6 > 3 {
             return None;
         }
-        let t = list.binary_search(&(row / 6)).ok()?;
+        let t = if self.block_at.is_empty() {
+            list.binary_search(&r).ok()?
+        } else {
+            let np = self.parts.len();
+            if r >= np {
+                return None;
+            }
+            match self.block_at[c * np + r] {
+                NOT_COUPLED => return None,
+                t => t as usize,
+            }
+        };
         let off = 6 * t + row % 6;
         Some([0, 1, 2].map(|b| self.col_ptr[col + b] + off))
     }
@@ -273,94 +310,5 @@ fn column_order(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::statics::assembly::Workspace;
-
-    /// The slots found once per equation and part are the entries
-    /// `(n + k, col)` and `(col, n + k)` of the stored structure (found by
-    /// scanning its rows), for every multiplier and every coordinate of
-    /// three coupled corners; none for a part the equation does not act on.
-    #[test]
-    fn constraint_slots_are_the_stored_entries() {
-        let (m, _) = crate::statics::testkit::coupled_corners(3);
-        let p = Problem::new(&m).expect("problem");
-        let pat = Pattern::new(&p).expect("pattern");
-        let (n, mm) = (p.layout.n(), p.kept.len());
-        let entry = |row: usize, col: usize| {
-            (pat.col_ptr[col]..pat.col_ptr[col + 1]).find(|&s| pat.row_idx[s] == row)
-        };
-        let mut found = 0;
-        for k in 0..mm {
-            for col in 0..n {
-                let searched = entry(n + k, col).zip(entry(col, n + k));
-                assert_eq!(pat.constraint_slots(k, col), searched, "({k}, {col})");
-                found += usize::from(searched.is_some());
-            }
-        }
-        assert!(found >= 6 * mm, "{found}");
-        // Each column's coordinate rows come first, up to `coord_end`.
-        for col in 0..n + mm {
-            let (start, mid, end) = (pat.col_ptr[col], pat.coord_end[col], pat.col_ptr[col + 1]);
-            assert!(start < mid && mid <= end, "column {col}");
-            assert!(
-                pat.row_idx[start..mid].iter().all(|&r| r < n),
-                "column {col}"
-            );
-            assert!(
-                pat.row_idx[mid..end].iter().all(|&r| r >= n),
-                "column {col}"
-            );
-            assert_eq!(
-                mid == end,
-                col >= n || pat.row_idx[start..end].iter().all(|&r| r < n)
-            );
-        }
-    }
-
-    /// Every entry the dense assembly writes, at a loaded state away from
-    /// equilibrium, is in the pattern: the structure read at design holds
-    /// elsewhere.
-    #[test]
-    fn the_pattern_holds_every_entry_of_the_mcpherson_matrix() {
-        let (_, c) = crate::check::check_str(
-            "mcpherson.axle",
-            include_str!("../../examples/mcpherson.axle"),
-        );
-        let m = c.model.expect("the example checks");
-        let p = Problem::new(&m).expect("problem");
-        let pat = Pattern::new(&p).expect("pattern");
-        let mut st = State::design(&m);
-        let dq = nalgebra::DVector::from_fn(p.layout.n(), |i, _| 0.01 * ((i as f64) * 0.7).sin());
-        st.apply(&p.layout, &dq);
-        st.lambda = (0..p.kept.len()).map(|k| 1.0 + k as f64).collect();
-        let loads = vec![crate::model::PointLoad {
-            marker: m.wheels[0].contact,
-            force: crate::geom::Vec3::new(2000.0, -3000.0, 4500.0),
-            torque: crate::geom::Vec3::zeros(),
-        }];
-        let mut ws = Workspace::dense(&p);
-        ws.eval(&p, &st, &loads, true).expect("evaluates");
-        let a = ws.matrix();
-        let mut inside = vec![false; pat.dim() * pat.dim()];
-        for j in 0..pat.dim() {
-            for &i in &pat.row_idx[pat.col_ptr[j]..pat.col_ptr[j + 1]] {
-                inside[i + pat.dim() * j] = true;
-            }
-        }
-        let mut written = 0;
-        for j in 0..pat.dim() {
-            for i in 0..pat.dim() {
-                if a[(i, j)] != 0.0 {
-                    written += 1;
-                    assert!(inside[i + pat.dim() * j], "({i}, {j}) outside the pattern");
-                }
-            }
-        }
-        assert!(
-            written > 300 && pat.nnz() < pat.dim() * pat.dim() / 2,
-            "{written} {}",
-            pat.nnz()
-        );
-    }
-}
+#[path = "pattern_tests.rs"]
+mod tests;
