@@ -159,11 +159,15 @@ pub fn push_json(out: &mut Vec<u8>, v: f64) {
         2 + head.leading_zeros() / 8
     };
     let len = SIGNIFICANT - zeros as usize;
-    // Laid out in a buffer by copies of fixed length (ten digits, sixteen
-    // zeros; what follows overwrites the excess), so that a number costs
-    // one variable-length copy, into `out`.
+    // Laid out in place, at the end of `out`, by copies of fixed length
+    // (ten digits, sixteen zeros; what follows overwrites the excess), then
+    // cut to its length. (Laid out in a buffer on the stack and copied,
+    // the copy's wide loads waited on the narrower stores before them: a
+    // quarter of a number's time.)
     const ZEROS: &[u8; 16] = b"0000000000000000";
-    let mut buf = [0u8; 48];
+    let start = out.len();
+    out.resize(start + 48, 0);
+    let buf = &mut out[start..start + 48];
     let mut n = usize::from(v < 0.0);
     buf[0] = b'-';
     let e = r.e;
@@ -193,7 +197,7 @@ pub fn push_json(out: &mut Vec<u8>, v: f64) {
         buf[n..n + SIGNIFICANT].copy_from_slice(&digits[..SIGNIFICANT]);
         n += len;
     }
-    push_prefix(out, &buf, n);
+    out.truncate(start + n);
 }
 
 /// Appends `src[..n]` to `out` by copying all of `src` (a fixed length) and
