@@ -54,7 +54,8 @@ pub(crate) struct Pattern {
     /// in `parts[c]` ([`NOT_COUPLED`] if absent): the search of
     /// [`Pattern::block_slots`] done once, a load instead of a binary
     /// search per 3×3 block scattered. Empty beyond [`BLOCK_TABLE_PARTS`]
-    /// parts, where the search is kept.
+    /// parts and in a [`Pattern::restricted`] one, where the search is
+    /// kept.
     block_at: Vec<u32>,
     /// Per multiplier, the parts its equation acts on, ascending.
     of_mult: Vec<Vec<usize>>,
@@ -193,15 +194,22 @@ impl Pattern {
             (self.order.clone(), self.order_inv.clone())
         };
         // The parts' lists are the assembly's, kept for a whole pattern's
-        // shape; the seed pivots are this pattern's, not the new one's.
+        // shape. The assembly scatters into whole patterns only, so the
+        // table of coupled parts is not copied (`block_slots` searches the
+        // lists here); the seed pivots are this pattern's, not the new one's.
         Some(Pattern {
-            order,
-            order_inv,
+            n: self.n,
+            m: self.m,
+            parts: self.parts.clone(),
+            block_at: Vec::new(),
+            of_mult: self.of_mult.clone(),
+            mult_pos: self.mult_pos.clone(),
             col_ptr,
             row_idx,
             coord_end,
+            order,
+            order_inv,
             pivots: std::sync::OnceLock::new(),
-            ..self.clone()
         })
     }
 
