@@ -8,7 +8,7 @@
 
 use super::coords::{Layout, MarkerKin, State, marker_kin};
 use super::wrench::{RhoMotion, Wrench};
-use crate::geom::{Vec3, skew};
+use crate::geom::{Vec3, skew, skew_times};
 use crate::model::{JointId, Model, Primitive};
 
 /// One scalar constraint equation of a joint.
@@ -94,8 +94,8 @@ pub fn evaluate_into(mi: &MarkerKin, mj: &MarkerKin, primitive: Primitive, w: &m
             w.reset(mi.block, mj.block, mi.r, mj.r);
             w.m = a.cross(&b);
             // d(a × b) = (theta_I × a) × b + a × (theta_J × b).
-            w.dm.set(1, skew(&b) * skew(&a));
-            w.dm.set(3, -skew(&a) * skew(&b));
+            w.dm.set(1, skew_times(&b, &skew(&a)));
+            w.dm.set(3, skew_times(&-a, &skew(&b)));
             a.dot(&b)
         }
     }

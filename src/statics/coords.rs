@@ -6,7 +6,7 @@
 //! `R ← exp(theta~) R` (a global rotation vector, Rodrigues' formula), so every
 //! Jacobian is taken at zero increment and no parameterisation is singular.
 
-use crate::geom::{Mat3, Vec3, skew};
+use crate::geom::{Mat3, Vec3, skew, skew_times};
 use crate::model::{FrictionId, MarkerId, Model, PartId, PointLoad};
 use nalgebra::DVector;
 
@@ -189,7 +189,7 @@ fn translation_coefficients(a: f64, sin: f64, cos: f64) -> (f64, f64) {
 fn screw(th: &Vec3) -> (Mat3, Mat3) {
     let a = th.norm();
     let k = skew(th);
-    let kk = k * k;
+    let kk = skew_times(th, &k);
     let (sin, cos) = a.sin_cos();
     let (s, c) = rotation_coefficients(a, sin, cos);
     let (c1, c2) = translation_coefficients(a, sin, cos);

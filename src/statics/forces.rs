@@ -6,7 +6,7 @@
 use super::coords::{Layout, MarkerKin, State, marker_kin};
 use super::error::{StaticsError, StaticsErrorKind};
 use super::wrench::{Blocks, RhoMotion, Wrench, d_point_i, d_point_j};
-use crate::geom::{Mat3, Vec3, projected_angles, skew};
+use crate::geom::{Mat3, Vec3, projected_angles, skew, times_skew};
 use crate::model::{
     Bushing, BushingId, ElementId, FrictionId, Model, PointLoad, Spring, SpringId, SpringLaw, Stop,
     StopId, StopKind, values,
@@ -120,7 +120,7 @@ pub fn bushing(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> Bu
     //   g = R_J F: R_J turns with theta_J, and F changes with t, so
     //   dg = [0, 0, 0, -g~] - R_J K_t dt, and likewise dm with K_a and da.
     let rt = rj.transpose();
-    let dt = [rt, rt * -skew(&mi.r), -rt, rt * skew(&rho)];
+    let dt = [rt, times_skew(&rt, &-mi.r), -rt, times_skew(&rt, &rho)];
     let ra = angle_rates(&q) * rt;
     let (pt, pa) = (rj * kt, rj * ka);
     for (k, d) in dt[..3].iter().enumerate() {

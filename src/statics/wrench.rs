@@ -10,7 +10,7 @@
 //! is `[g; r_i × g + m; -g; -(rho × g) - m]`. Its derivative follows from the
 //! derivatives of `g, m, r_i, rho` (3×12 each), which each element supplies.
 
-use crate::geom::{Mat3, Vec3, skew};
+use crate::geom::{Mat3, Vec3, skew, skew_times};
 use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 
 pub type M3x12 = SMatrix<f64, 3, 12>;
@@ -158,19 +158,6 @@ pub struct Wrench {
 fn nonzero_block(m: &M3x12, c: usize) -> Option<Mat3> {
     let b: Mat3 = m.fixed_view::<3, 3>(0, c).into_owned();
     b.iter().any(|v| *v != 0.0).then_some(b)
-}
-
-/// `a~ m`: `a` crossed with each column of `m`. The same bits as the
-/// product with `skew(a)`, whose exact zeros add nothing to a sum of two
-/// products (each entry of `a~ m` is one), with a third fewer
-/// multiplications and no skew matrix built: [`Wrench::each_tangent`] forms
-/// a dozen of these products per wrench, every evaluation.
-fn cross_columns(a: &Vec3, m: &Mat3) -> Mat3 {
-    Mat3::from_columns(&[
-        a.cross(&m.column(0)),
-        a.cross(&m.column(1)),
-        a.cross(&m.column(2)),
-    ])
 }
 
 /// `-r~`, unless `r` is zero (the derivative block of an arm `r` turning
@@ -348,10 +335,10 @@ impl Wrench {
                     if dr.is_some() || dg.is_some() || dm.is_some() {
                         let mut b = Mat3::zeros();
                         if let Some(dr) = &dr {
-                            b = cross_columns(&minus_g, dr);
+                            b = skew_times(&minus_g, dr);
                         }
                         if let Some(dg) = dg {
-                            b += cross_columns(&self.r_i, dg);
+                            b += skew_times(&self.r_i, dg);
                         }
                         if let Some(dm) = dm {
                             b += dm;
@@ -367,10 +354,10 @@ impl Wrench {
                     if dr.is_some() || dg.is_some() || dm.is_some() {
                         let mut b = Mat3::zeros();
                         if let Some(dr) = &dr {
-                            b = cross_columns(&self.g, dr);
+                            b = skew_times(&self.g, dr);
                         }
                         if let Some(dg) = dg {
-                            b -= cross_columns(&self.rho, dg);
+                            b -= skew_times(&self.rho, dg);
                         }
                         if let Some(dm) = dm {
                             b -= dm;
