@@ -314,8 +314,9 @@ impl Wrench {
     /// `g` (no `dg`) and arms that turn with one part each, so most of its
     /// 6×6 blocks are empty. The Newton matrix is assembled from dozens of
     /// wrenches per evaluation. A skipped block contributes exact zeros, and
-    /// the terms present are combined in the order of [`Self::tangent`], so
-    /// every entry is the same to the bit.
+    /// the terms present are combined in the order of [`Self::tangent`], its
+    /// products with skew matrices as cross products ([`skew_times`]), so
+    /// every entry is the same to the bit but for the sign of a zero.
     pub fn each_tangent(&self, mut f: impl FnMut(usize, usize, &Mat3)) {
         let offs = self.offsets();
         let minus_g = -self.g;
@@ -441,7 +442,8 @@ mod tests {
             });
             let mut want = DMatrix::zeros(18, 18);
             w.add_tangent(&mut want);
-            // Bit for bit: the blocks skipped are exact zeros.
+            // Bit for bit (`==`: a zero of either sign): the blocks skipped are
+            // exact zeros.
             assert_eq!(got, want);
             assert!(full.amax() > 0.0);
         }
