@@ -442,8 +442,7 @@ mod tests {
             });
             let mut want = DMatrix::zeros(18, 18);
             w.add_tangent(&mut want);
-            // Bit for bit (`==`: a zero of either sign): the blocks skipped are
-            // exact zeros.
+            // Bit for bit (`==`, a zero of either sign): skipped blocks are zeros.
             assert_eq!(got, want);
             assert!(full.amax() > 0.0);
         }
