@@ -152,20 +152,12 @@ mod tests {
 
     #[test]
     fn products_with_a_skew_matrix_are_the_generic_products_to_the_bit() {
-        let mut s = 0x2545_f491_4f6c_dd1du64;
-        let mut rnd = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let x = (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-            // Some exact zeros and integers, as structural entries are.
-            if s % 7 == 0 {
-                0.0
-            } else if s % 11 == 0 {
-                (x * 8.0).round()
-            } else {
-                x * 1e3
-            }
+        let mut rng = crate::statics::testkit::Lcg::new(0x2545_f491);
+        // Some exact zeros and integers, as structural entries are.
+        let mut rnd = || match rng.next() {
+            x if x.abs() < 0.15 => 0.0,
+            x if x.abs() < 0.3 => (x * 20.0).round(),
+            x => x * 1e3,
         };
         for _ in 0..2000 {
             let a = Vec3::new(rnd(), rnd(), rnd());

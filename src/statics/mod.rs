@@ -36,7 +36,7 @@ pub mod sensitivity;
 mod sparse;
 mod tangent;
 #[cfg(test)]
-mod testkit;
+pub(crate) mod testkit;
 pub mod wrench;
 
 pub use compliance::{StoppingError, compliance, compliances, stopping_error};
