@@ -99,6 +99,16 @@ fn laws(b: &Bushing, t: &Vec3, angles: &Vec3) -> (Vec3, Vec3, Mat3, Mat3) {
     (force, torque, kt, ka)
 }
 
+/// `m d` for the diagonal matrix `d`: `m`'s columns scaled, the same bits
+/// as the product but for the sign of a zero.
+fn scale_columns(m: &Mat3, d: &Mat3) -> Mat3 {
+    Mat3::from_columns(&[
+        m.column(0) * d[(0, 0)],
+        m.column(1) * d[(1, 1)],
+        m.column(2) * d[(2, 2)],
+    ])
+}
+
 pub fn bushing(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> BushingEval {
     let mi = marker_kin(model, layout, state, b.i);
     let mj = marker_kin(model, layout, state, b.j);
@@ -120,15 +130,19 @@ pub fn bushing(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> Bu
     //   g = R_J F: R_J turns with theta_J, and F changes with t, so
     //   dg = [0, 0, 0, -g~] - R_J K_t dt, and likewise dm with K_a and da.
     let rt = rj.transpose();
-    let dt = [rt, times_skew(&rt, &-mi.r), -rt, times_skew(&rt, &rho)];
     let ra = angle_rates(&q) * rt;
-    let (pt, pa) = (rj * kt, rj * ka);
-    for (k, d) in dt[..3].iter().enumerate() {
-        w.dg.set(k, -(pt * d));
-    }
-    w.dg.set(3, -skew(&w.g) - pt * dt[3]);
-    w.dm.set(1, -(pa * ra));
-    w.dm.set(3, -skew(&w.m) + pa * ra);
+    // `K_t` and `K_a` are diagonal (one law an axis): `R_J K` scales R_J's
+    // columns, the generic product's other terms being exact zeros.
+    let (pt, pa) = (scale_columns(&rj, &kt), scale_columns(&rj, &ka));
+    let dg0 = -(pt * rt);
+    w.dg.set(0, dg0);
+    w.dg.set(1, -(pt * times_skew(&rt, &-mi.r)));
+    // dt's third block is minus its first: the same products, negated.
+    w.dg.set(2, -dg0);
+    w.dg.set(3, -skew(&w.g) - pt * times_skew(&rt, &rho));
+    let pra = pa * ra;
+    w.dm.set(1, -pra);
+    w.dm.set(3, -skew(&w.m) + pra);
     BushingEval {
         state: BushingState {
             t,
