@@ -4,7 +4,7 @@
 //! widened when a matrix has a significant entry outside them.
 
 use super::condition::largest;
-use super::pattern::Pattern;
+use super::pattern::{ColumnOrder, Pattern};
 use super::pivoting::{ByRows, by_rows};
 
 /// An entry outside a factorisation's slots ([`Live`]) no larger than this
@@ -48,10 +48,10 @@ pub(crate) struct Live {
 }
 
 impl Live {
-    /// The slots of `full` that `keep` holds, with their own fill-reducing
-    /// order (AMD's, `reorder`) or `full`'s; None if AMD fails.
-    pub fn ordered(full: &Pattern, keep: &[bool], reorder: bool) -> Option<Live> {
-        let pattern = full.restricted(keep, reorder)?;
+    /// The slots of `full` that `keep` holds, in the column order `order`;
+    /// None if AMD fails.
+    pub fn ordered(full: &Pattern, keep: &[bool], order: ColumnOrder) -> Option<Live> {
+        let pattern = full.restricted(keep, order)?;
         let from: Vec<usize> = (0..full.nnz()).filter(|&k| keep[k]).collect();
         let outside = (0..full.nnz())
             .map(|k| if keep[k] { 0 } else { u64::MAX })
@@ -120,9 +120,7 @@ impl Live {
     pub fn widened(&self, full: &Pattern, values: &[f64]) -> Option<Live> {
         let mut keep = Live::significant(values);
         self.from.iter().for_each(|&k| keep[k] = true);
-        let mut live = Live::ordered(full, &keep, false)?;
-        live.pattern.set_order(self.pattern.order.clone());
-        Some(live)
+        Live::ordered(full, &keep, ColumnOrder::Given(&self.pattern.order))
     }
 
     /// The slots kept, of how many.

@@ -36,6 +36,24 @@ impl ConstraintBlock {
     }
 }
 
+/// The column order of a [`Pattern::restricted`] pattern: AMD's of its own
+/// slots, or one given (the whole pattern's, or the one a factorisation
+/// chose, which widened slots keep).
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum ColumnOrder<'a> {
+    Amd,
+    Given(&'a [usize]),
+}
+
+/// The inverse of the permutation `p`: `inverse(p)[p[k]] = k`.
+pub(crate) fn inverse(p: &[usize]) -> Vec<usize> {
+    let mut inv = vec![0; p.len()];
+    for (k, &c) in p.iter().enumerate() {
+        inv[c] = k;
+    }
+    inv
+}
+
 /// A pair of parts not coupled, in [`Pattern`]'s `block_at`.
 const NOT_COUPLED: u32 = u32::MAX;
 
@@ -176,10 +194,9 @@ impl Pattern {
         self.n + self.m
     }
 
-    /// The pattern of the slots `keep` holds (the rest left out), with its
-    /// own fill-reducing order (`reorder`) or this pattern's; None if AMD
-    /// fails.
-    pub fn restricted(&self, keep: &[bool], reorder: bool) -> Option<Pattern> {
+    /// The pattern of the slots `keep` holds (the rest left out), with the
+    /// column order `order`; None if AMD fails.
+    pub fn restricted(&self, keep: &[bool], order: ColumnOrder) -> Option<Pattern> {
         let (mut col_ptr, mut row_idx, mut coord_end) = (vec![0], Vec::new(), Vec::new());
         for j in 0..self.dim() {
             let (top, bottom) = self.column_halves(j);
@@ -188,10 +205,9 @@ impl Pattern {
             row_idx.extend(bottom.filter(|&k| keep[k]).map(|k| self.row_idx[k]));
             col_ptr.push(row_idx.len());
         }
-        let (order, order_inv) = if reorder {
-            column_order(self.dim(), &col_ptr, &row_idx)?
-        } else {
-            (self.order.clone(), self.order_inv.clone())
+        let (order, order_inv) = match order {
+            ColumnOrder::Amd => column_order(self.dim(), &col_ptr, &row_idx)?,
+            ColumnOrder::Given(o) => (o.to_vec(), inverse(o)),
         };
         // The parts' lists are the assembly's, kept for a whole pattern's
         // shape. The assembly scatters into whole patterns only, so the
@@ -215,10 +231,7 @@ impl Pattern {
 
     /// Factorises with the columns in `order` (a permutation of them).
     pub fn set_order(&mut self, order: Vec<usize>) {
-        self.order_inv.resize(order.len(), 0);
-        for (k, &c) in order.iter().enumerate() {
-            self.order_inv[c] = k;
-        }
+        self.order_inv = inverse(&order);
         self.order = order;
     }
 

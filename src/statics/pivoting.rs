@@ -262,7 +262,8 @@ fn eliminate(
     let mut cand: Vec<(usize, f64, usize)> = Vec::new();
     // For a choice of columns: each column's active entries.
     let mut count: Vec<usize> = cols.iter().map(Vec::len).collect();
-    let mut max = vec![0.0; n];
+    // (Scratch of the Markowitz search; none on a given order.)
+    let mut max = vec![0.0; if chosen.is_some() { n } else { 0 }];
     for (k, pivot_row) in row_perm.iter_mut().enumerate() {
         // The Markowitz pivot's row, chosen with its column.
         let mut planned = None;
@@ -367,11 +368,7 @@ fn eliminate(
     let order_inv = match &chosen {
         None => &pattern.order_inv,
         Some(order) => {
-            let mut inv = vec![0; n];
-            for (k, &c) in order.iter().enumerate() {
-                inv[c] = k;
-            }
-            taken = inv;
+            taken = super::pattern::inverse(order);
             &taken
         }
     };

@@ -5,6 +5,7 @@ use super::*;
 use crate::statics::Problem;
 use crate::statics::linear::Lu;
 use crate::statics::path::solve_path;
+use crate::statics::pattern::ColumnOrder;
 use crate::statics::tangent::SPARSE_FROM;
 use crate::statics::testkit::{Lcg, coupled_corners, kkt_values};
 
@@ -287,7 +288,7 @@ fn a_non_zero_outside_the_live_slots_widens_them() {
             keep[k] = true;
         }
     }
-    let narrow = Live::ordered(&pat, &keep, true).expect("order");
+    let narrow = Live::ordered(&pat, &keep, ColumnOrder::Amd).expect("order");
     let order = narrow.pattern.order.clone();
     assert!(narrow.count().0 < pat.nnz());
     let inside: Vec<f64> = v
@@ -317,7 +318,7 @@ fn a_non_zero_outside_the_live_slots_widens_them() {
     // The widened slots keep the narrow ones' column order (the seed's,
     // chosen with its pivots), not their own AMD order, which differs.
     assert_eq!(s.live.pattern.order, order);
-    let own = Live::ordered(&pat, &vec![true; pat.nnz()], true).expect("order");
+    let own = Live::ordered(&pat, &vec![true; pat.nnz()], ColumnOrder::Amd).expect("order");
     assert_ne!(own.pattern.order, order);
     check(&mut s, &inside);
     assert_eq!(s.widened, 1);

@@ -7,7 +7,7 @@
 use super::condition::Scale;
 use super::linear::Lu;
 use super::live::Live;
-use super::pattern::Pattern;
+use super::pattern::{ColumnOrder, Pattern};
 use super::sparse::SparseLu;
 use faer::Mat;
 use nalgebra::DMatrix;
@@ -114,7 +114,13 @@ fn seed(p: &super::Problem, pat: &Arc<Pattern>) -> Option<super::sparse::Pivots>
     // against 4 109; eight corners 10 768 against 13 888, coupled 18 140
     // against 19 000 (`docs/performance.md`).
     let factored = |choose: bool| {
-        let live = Live::ordered(pat, &keep, !choose)?;
+        // (With `choose`, the order the factorisation takes replaces it.)
+        let order = if choose {
+            ColumnOrder::Given(&pat.order)
+        } else {
+            ColumnOrder::Amd
+        };
+        let live = Live::ordered(pat, &keep, order)?;
         let mut lu = SparseLu::starting_with(pat.clone(), live);
         let ok = if choose {
             lu.factor_choosing_columns(v)
