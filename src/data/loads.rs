@@ -9,6 +9,7 @@ use super::table::{self, Field, Row};
 use crate::diagnostic::suggest::did_you_mean;
 use crate::model::{Channel, Component, LoadCase, LoadForm, LoadSet, LoadTarget, Model, WheelId};
 use crate::units::Dim;
+use std::collections::{HashMap, HashSet};
 
 const REQUIRED: [&str; 4] = ["step", "fx", "fy", "fz"];
 const COLUMNS_HINT: &str =
@@ -40,6 +41,9 @@ pub fn read(text: &str, name: &str, model: &Model) -> Result<LoadSet, CsvError> 
     let step_col = t.column("step").unwrap_or(0);
 
     let mut rows: Vec<LoadRow> = Vec::new();
+    // Each (step, wheel) read so far: a set, not a scan of the rows, so that
+    // a long measured series reads in time linear in its rows.
+    let mut seen: HashSet<(u64, WheelId)> = HashSet::with_capacity(t.rows.len());
     for row in &t.rows {
         if row.fields.len() != t.names.len() {
             let end = (row.end, row.end);
@@ -76,7 +80,7 @@ pub fn read(text: &str, name: &str, model: &Model) -> Result<LoadSet, CsvError> 
             .map(|i| row.fields[i].text)
             .filter(|s| !s.is_empty())
             .map_or_else(|| format!("step_{step}"), str::to_string);
-        if rows.iter().any(|r| r.0 == step && r.2 == wheel) {
+        if !seen.insert((step, wheel)) {
             return Err(CsvError::new(
                 "E0706",
                 format!(
@@ -113,20 +117,17 @@ pub fn read(text: &str, name: &str, model: &Model) -> Result<LoadSet, CsvError> 
             })
         })
         .collect();
-    let mut steps: Vec<u64> = Vec::new();
+    // Each step's case, in the order the steps first appear.
+    let mut case_of: HashMap<u64, usize> = HashMap::with_capacity(rows.len());
     let mut cases: Vec<LoadCase> = Vec::new();
     for (step, case, wheel, values) in rows {
-        let k = match steps.iter().position(|&s| s == step) {
-            Some(k) => k,
-            None => {
-                steps.push(step);
-                cases.push(LoadCase {
-                    name: case,
-                    values: vec![0.0; channels.len()],
-                });
-                steps.len() - 1
-            }
-        };
+        let k = *case_of.entry(step).or_insert_with(|| {
+            cases.push(LoadCase {
+                name: case,
+                values: vec![0.0; channels.len()],
+            });
+            cases.len() - 1
+        });
         for (c, v) in values {
             if let Some(ch) = channels
                 .iter()
