@@ -147,8 +147,9 @@ fn stream_json(
     let mut written = Ok(());
     // (The path keeps no states: each case is reported and forgotten.)
     let solved = super::input::solve_reporting_each(loaded, problem, set, |k, eq| {
-        doc.case(&reporter.case(&ls.cases[k].name, k + 1, eq));
-        warnings.add(&eq.state);
+        let report = reporter.case(&ls.cases[k].name, k + 1, eq);
+        warnings.add_reported(&eq.state, &report);
+        doc.case(&report);
         if doc.pending() >= JSON_PIECE {
             written = doc.drain(|b| out.write(b));
         }

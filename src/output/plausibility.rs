@@ -5,11 +5,10 @@
 //! They are hints that a load, a stiffness or a unit is wrong, not errors:
 //! the numbers printed are the model's true equilibrium.
 
+use super::report::BushingReading;
 use crate::diagnostic::Diagnostic;
 use crate::model::{BushingId, ElementId, Model, WheelId};
 use crate::statics::State;
-use crate::statics::coords::Layout;
-use crate::statics::forces::bushing_state;
 use std::collections::BTreeMap;
 
 /// Translational deformation (mm) beyond which a bushing is implausible:
@@ -45,16 +44,20 @@ impl Finding {
     }
 }
 
-/// Everything implausible at one converged state (`layout` and `design`: the
-/// model's, found once for a path).
-pub fn findings(model: &Model, layout: &Layout, design: &State, state: &State) -> Vec<Finding> {
+/// Everything implausible at one converged state (`design`: the model's,
+/// found once for a path; `readings[k]`: the model's bushing `k` there).
+pub fn findings(
+    model: &Model,
+    design: &State,
+    state: &State,
+    readings: &[BushingReading],
+) -> Vec<Finding> {
     let mut out = Vec::new();
-    for (k, b) in model.bushings.iter().enumerate() {
-        let mm = bushing_state(model, layout, state, b).t.norm();
-        if mm > BUSHING_DEFORMATION_LIMIT_MM {
+    for (k, r) in readings.iter().enumerate() {
+        if r.mm > BUSHING_DEFORMATION_LIMIT_MM {
             out.push(Finding::BushingDeformed {
                 bushing: BushingId(k as u32),
-                mm,
+                mm: r.mm,
             });
         }
     }

@@ -3,7 +3,7 @@
 //! W1002, W1003). (Redundant constraints are reported once, by the checker's
 //! mobility analysis.)
 
-use super::report::{ANGLE_LIMIT_DEG, AngleWarning, angle_warnings_in};
+use super::report::{ANGLE_LIMIT_DEG, AngleWarning, BushingReading, CaseReport, angle_warnings_of};
 use crate::diagnostic::Diagnostic;
 use crate::model::{ElementId, Model};
 use crate::statics::coords::Layout;
@@ -44,8 +44,33 @@ impl<'m> PathWarnings<'m> {
     /// The next converged case's state.
     pub fn add(&mut self, state: &State) {
         let (model, layout) = (self.model, &self.layout);
-        self.angles.push(angle_warnings_in(model, layout, state));
-        let found = super::plausibility::findings(model, layout, &self.design, state);
+        let readings: Vec<BushingReading> = model
+            .bushings
+            .iter()
+            .map(|b| BushingReading::of_state(model, layout, state, b))
+            .collect();
+        self.push(state, &readings);
+    }
+
+    /// The next converged case, reported as `report`: its bushings read off
+    /// the report rather than evaluated again.
+    pub fn add_reported(&mut self, state: &State, report: &CaseReport) {
+        let readings: Vec<BushingReading> = self
+            .model
+            .bushings
+            .iter()
+            .map(|b| match report.bushings.get(&b.name) {
+                Some(r) => BushingReading::of_report(r),
+                None => BushingReading::of_state(self.model, &self.layout, state, b),
+            })
+            .collect();
+        self.push(state, &readings);
+    }
+
+    fn push(&mut self, state: &State, readings: &[BushingReading]) {
+        let model = self.model;
+        self.angles.push(angle_warnings_of(model, readings));
+        let found = super::plausibility::findings(model, &self.design, state, readings);
         self.found.push(found);
     }
 
