@@ -201,7 +201,16 @@ impl Workspace {
             let (mi, mj) = joint_markers(&p.model, &p.layout, st, joint);
             (joint, mi, mj)
         });
-        let mut w = Wrench::new(None, None, Vec3::zeros(), Vec3::zeros());
+        // Two wrenches that swap roles: one receives each equation's unit
+        // reaction, the other holds its group's sum. A group starts from its
+        // first equation's wrench where it lies (scaled by λ), and the
+        // previous sum's buffer receives the next equation (each is written
+        // whole: `Wrench::reset`): no wrench is copied.
+        let mut buffers = (
+            Wrench::new(None, None, Vec3::zeros(), Vec3::zeros()),
+            Wrench::new(None, None, Vec3::zeros(), Vec3::zeros()),
+        );
+        let (mut w, mut sum) = (&mut buffers.0, &mut buffers.1);
         // The λ-weighted sum of the unit reactions of consecutive equations
         // of one joint whose wrenches share their arms (see `Arms`), whose
         // tangent is the sum of theirs: the tangent is linear in the forces
@@ -209,7 +218,6 @@ impl Workspace {
         // instead of one an equation (a revolute joint's five equations
         // scatter 4 blocks instead of 14).
         let mut group: Option<(JointId, Arms)> = None;
-        let mut sum = Wrench::new(None, None, Vec3::zeros(), Vec3::zeros());
         for (idx, &e) in p.kept.iter().enumerate() {
             let lam = st.lambda.get(idx).copied().unwrap_or(0.0);
             let eq = &p.equations[e];
@@ -220,7 +228,7 @@ impl Workspace {
                 f.0 = eq.joint;
             }
             let (_, mi, mj) = &*f;
-            let v = evaluate_into(mi, mj, eq.primitive, &mut w);
+            let v = evaluate_into(mi, mj, eq.primitive, w);
             // The gradient row with rotation columns times the length, as in
             // `redundancy::scaled_jacobian` (at most 12 entries), and the
             // generalised force it scales (computed once for both uses).
@@ -287,19 +295,19 @@ impl Workspace {
             if tangent {
                 let key = (eq.joint, Arms::of(eq.primitive));
                 if group == Some(key) {
-                    sum.add_loads(&w, lam);
+                    sum.add_loads(w, lam);
                 } else {
                     if group.is_some() {
-                        add_tangent(&sum, 1.0, a, scale, &mut inside);
+                        add_tangent(sum, 1.0, a, scale, &mut inside);
                     }
-                    sum.clone_from(&w);
-                    sum.scale_loads(lam);
+                    w.scale_loads(lam);
+                    std::mem::swap(&mut w, &mut sum);
                     group = Some(key);
                 }
             }
         }
         if group.is_some() {
-            add_tangent(&sum, 1.0, a, scale, &mut inside);
+            add_tangent(sum, 1.0, a, scale, &mut inside);
         }
         Ok(inside)
     }
