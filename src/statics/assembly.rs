@@ -5,9 +5,9 @@
 
 use super::Problem;
 use super::constraint::{evaluate_into, is_length, joint_markers};
-use super::coords::{MarkerKin, State};
+use super::coords::{MarkerKin, State, marker_kin};
 use super::error::StaticsError;
-use super::forces::{for_each_element, point_load};
+use super::forces::{for_each_element, point_load, point_load_into};
 use super::newton::Homotopy;
 use super::tangent::NewtonMatrix;
 use super::wrench::Wrench;
@@ -187,11 +187,22 @@ impl Workspace {
             add(w, 1.0, r, a, tangent, scale, &mut inside);
         })?;
         *element_scale = elem;
+        // Two wrenches written in place (each whole: `Wrench::reset`), not
+        // returned and copied (700 bytes each). The loads' wrenches come in
+        // the first. For the constraints they swap roles: one receives each
+        // equation's unit reaction, the other holds its group's sum. A group
+        // starts from its first equation's wrench where it lies (scaled by
+        // λ), and the previous sum's buffer receives the next equation.
+        let mut buffers = (
+            Wrench::new(None, None, Vec3::zeros(), Vec3::zeros()),
+            Wrench::new(None, None, Vec3::zeros(), Vec3::zeros()),
+        );
         *load_scale = 0.0;
         for ld in loads {
-            if let Some(w) = point_load(&p.model, &p.layout, st, ld) {
+            let w = &mut buffers.0;
+            if point_load_into(&p.model, &p.layout, st, ld, w) {
                 *load_scale = load_scale.max(w.size(l));
-                add(&w, 1.0, r, a, tangent, scale, &mut inside);
+                add(w, 1.0, r, a, tangent, scale, &mut inside);
             }
         }
         // A joint's equations are consecutive and share its marker frames
@@ -201,15 +212,6 @@ impl Workspace {
             let (mi, mj) = joint_markers(&p.model, &p.layout, st, joint);
             (joint, mi, mj)
         });
-        // Two wrenches that swap roles: one receives each equation's unit
-        // reaction, the other holds its group's sum. A group starts from its
-        // first equation's wrench where it lies (scaled by λ), and the
-        // previous sum's buffer receives the next equation (each is written
-        // whole: `Wrench::reset`): no wrench is copied.
-        let mut buffers = (
-            Wrench::new(None, None, Vec3::zeros(), Vec3::zeros()),
-            Wrench::new(None, None, Vec3::zeros(), Vec3::zeros()),
-        );
         let (mut w, mut sum) = (&mut buffers.0, &mut buffers.1);
         // The λ-weighted sum of the unit reactions of consecutive equations
         // of one joint whose wrenches share their arms (see `Arms`), whose
@@ -224,7 +226,10 @@ impl Workspace {
             // (Set before the loop from its first equation.)
             let Some(f) = frames.as_mut() else { break };
             if f.0 != eq.joint {
-                (f.1, f.2) = joint_markers(&p.model, &p.layout, st, eq.joint);
+                // Each frame written where it lies (a returned pair is copied).
+                let joint = &p.model.joints[eq.joint.index()];
+                f.1 = marker_kin(&p.model, &p.layout, st, joint.i);
+                f.2 = marker_kin(&p.model, &p.layout, st, joint.j);
                 f.0 = eq.joint;
             }
             let (_, mi, mj) = &*f;

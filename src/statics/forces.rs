@@ -234,12 +234,27 @@ fn degenerate(e: ElementId, what: &str) -> StaticsError {
 /// The wrench of a point load (global force and torque at a marker origin);
 /// None when the marker is on ground (the load goes straight into the ground).
 pub fn point_load(model: &Model, layout: &Layout, state: &State, l: &PointLoad) -> Option<Wrench> {
+    let mut w = Wrench::new(None, None, Vec3::zeros(), Vec3::zeros());
+    point_load_into(model, layout, state, l, &mut w).then_some(w)
+}
+
+/// [`point_load`] written into `w` (all of it); false, `w` unspecified,
+/// for a load on the ground.
+pub fn point_load_into(
+    model: &Model,
+    layout: &Layout,
+    state: &State,
+    l: &PointLoad,
+    w: &mut Wrench,
+) -> bool {
     let mk = marker_kin(model, layout, state, l.marker);
-    mk.block?;
-    let mut w = Wrench::new(mk.block, None, mk.r, Vec3::zeros());
+    if mk.block.is_none() {
+        return false;
+    }
+    w.reset(mk.block, None, mk.r, Vec3::zeros());
     w.g = l.force;
     w.m = l.torque;
-    Some(w)
+    true
 }
 
 /// Every force-element wrench of the model (bushings, springs, stops,
