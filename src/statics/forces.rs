@@ -281,16 +281,21 @@ pub fn for_each_element(
         let id = ElementId::Bushing(BushingId(k as u32));
         f(id, &bushing(model, layout, state, b).wrench);
     }
+    // (Each wrench borrowed where the element's result holds it: moved out
+    // of the `Result` by `?`, its 700 bytes would be copied.)
     for (k, s) in model.springs.iter().enumerate() {
         let id = SpringId(k as u32);
-        f(
-            ElementId::Spring(id),
-            &spring(model, layout, state, id, s)?.2,
-        );
+        match spring(model, layout, state, id, s) {
+            Ok(ref e) => f(ElementId::Spring(id), &e.2),
+            Err(e) => return Err(e),
+        }
     }
     for (k, s) in model.stops.iter().enumerate() {
         let id = StopId(k as u32);
-        f(ElementId::Stop(id), &stop(model, layout, state, id, s)?.2);
+        match stop(model, layout, state, id, s) {
+            Ok(ref e) => f(ElementId::Stop(id), &e.2),
+            Err(e) => return Err(e),
+        }
     }
     for k in 0..model.frictions.len() {
         let id = FrictionId(k as u32);
