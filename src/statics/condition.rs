@@ -101,15 +101,6 @@ impl BlockSizes {
         *s += sq;
     }
 
-    /// Adds a column (a coordinate's or not) as its coordinate rows `top`
-    /// and its multiplier rows `bottom`.
-    pub fn add_column(&mut self, col_coord: bool, top: &[f64], bottom: &[f64]) {
-        let (mx, sq) = max_and_squares(top);
-        self.add(true, col_coord, mx, sq);
-        let (mx, sq) = max_and_squares(bottom);
-        self.add(false, col_coord, mx, sq);
-    }
-
     pub fn merge(&mut self, o: &BlockSizes) {
         self.add(true, true, o.k_max, o.k_sq);
         self.add(true, false, o.c_max, o.c_sq);
@@ -150,15 +141,6 @@ impl Scale {
         if i < self.coords { 1.0 } else { self.alpha }
     }
 
-    /// `Σ (D (x - y) D)²` over column `j` of two matrices, given as their
-    /// coordinate rows (`top`) and multiplier rows (`bottom`).
-    pub fn column_squares(&self, j: usize, top: (&[f64], &[f64]), bottom: (&[f64], &[f64])) -> f64 {
-        let a2 = self.alpha * self.alpha;
-        let col =
-            squares_of_difference(top.0, top.1) + a2 * squares_of_difference(bottom.0, bottom.1);
-        if j < self.coords { col } else { a2 * col }
-    }
-
     /// `y ← D y`.
     pub fn times(&self, y: &mut [f64]) {
         y.iter_mut()
@@ -185,30 +167,7 @@ impl Scale {
     }
 }
 
-/// The largest absolute value and the sum of squares of `x`, in eight
-/// independent lanes: a single running max and sum is a chain of dependent
-/// scalar operations that cost as much as a fifth of the whole solve; lanes
-/// let the compiler use vector instructions.
-fn max_and_squares(x: &[f64]) -> (f64, f64) {
-    let (mut mx, mut sq) = ([0.0f64; 8], [0.0f64; 8]);
-    let mut chunks = x.chunks_exact(8);
-    for c in &mut chunks {
-        for k in 0..8 {
-            let v = c[k].abs();
-            // Like `f64::max`, a NaN entry does not replace the maximum.
-            mx[k] = if v > mx[k] { v } else { mx[k] };
-            sq[k] += v * v;
-        }
-    }
-    for (k, v) in chunks.remainder().iter().enumerate() {
-        let v = v.abs();
-        mx[k] = if v > mx[k] { v } else { mx[k] };
-        sq[k] += v * v;
-    }
-    (mx.iter().fold(0.0f64, |m, v| m.max(*v)), sq.iter().sum())
-}
-
-/// The largest absolute value of `x`, in lanes as [`max_and_squares`]
+/// The largest absolute value of `x`, in lanes as [`SizeLanes`]
 /// (every factorisation takes it, the sum of squares only a case's scale).
 pub(crate) fn largest(x: &[f64]) -> f64 {
     let mut mx = [0.0f64; 8];
@@ -226,31 +185,118 @@ pub(crate) fn largest(x: &[f64]) -> f64 {
     mx.iter().fold(0.0f64, |m, v| m.max(*v))
 }
 
-/// `Σ (x_i - y_i)²`, in lanes as [`max_and_squares`].
-fn squares_of_difference(x: &[f64], y: &[f64]) -> f64 {
-    let mut d = [0.0f64; 8];
-    let (xs, ys) = (x.chunks_exact(8), y.chunks_exact(8));
-    let (xr, yr) = (xs.remainder(), ys.remainder());
-    for (a, b) in xs.zip(ys) {
-        for k in 0..8 {
-            d[k] += (a[k] - b[k]) * (a[k] - b[k]);
+/// Lanes of the running sums and maxima below: a single running sum is a
+/// chain of dependent additions, which cost as much as a fifth of the whole
+/// solve; independent lanes let them overlap. The lanes run on across the
+/// columns and are added up once at the end, for a column's halves are
+/// short (3 to 8 entries on the McPherson): added up half by half, the
+/// lanes cost more than the entries did.
+const LANES: usize = 4;
+
+/// The block of `[K Cᵀ; C Z]` of a column's coordinate rows (`top`) or its
+/// multiplier rows: 0 for `K`, 1 for `C` or `Cᵀ`, 2 for `Z`.
+fn block(col_coord: bool, top: bool) -> usize {
+    match (col_coord, top) {
+        (true, true) => 0,
+        (false, false) => 2,
+        _ => 1,
+    }
+}
+
+/// [`BlockSizes`] gathered column by column.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct SizeLanes {
+    max: [[f64; LANES]; 3],
+    sq: [[f64; LANES]; 3],
+}
+
+impl SizeLanes {
+    /// Adds a column (a coordinate's or not) as its coordinate rows `top`
+    /// and its multiplier rows `bottom`.
+    pub fn add_column(&mut self, col_coord: bool, top: &[f64], bottom: &[f64]) {
+        self.take(block(col_coord, true), top);
+        self.take(block(col_coord, false), bottom);
+    }
+
+    fn take(&mut self, b: usize, x: &[f64]) {
+        let (mx, sq) = (&mut self.max[b], &mut self.sq[b]);
+        let mut chunks = x.chunks_exact(LANES);
+        for c in &mut chunks {
+            for k in 0..LANES {
+                let v = c[k].abs();
+                // Like `f64::max`, a NaN entry does not replace the maximum.
+                mx[k] = if v > mx[k] { v } else { mx[k] };
+                sq[k] += v * v;
+            }
+        }
+        for (k, v) in chunks.remainder().iter().enumerate() {
+            let v = v.abs();
+            mx[k] = if v > mx[k] { v } else { mx[k] };
+            sq[k] += v * v;
         }
     }
-    for (k, (a, b)) in xr.iter().zip(yr).enumerate() {
-        d[k] += (a - b) * (a - b);
+
+    pub fn sizes(&self) -> BlockSizes {
+        let max = |b: usize| self.max[b].iter().fold(0.0f64, |m, v| m.max(*v));
+        let sq = |b: usize| self.sq[b].iter().sum::<f64>();
+        BlockSizes {
+            k_max: max(0),
+            c_max: max(1),
+            z_max: max(2),
+            k_sq: sq(0),
+            c_sq: sq(1),
+            z_sq: sq(2),
+        }
     }
-    d.iter().sum()
+}
+
+/// `‖D (x - y) D‖²_F` of two matrices gathered column by column, block by
+/// block (as [`SizeLanes`]).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct DifferenceLanes {
+    sq: [[f64; LANES]; 3],
+}
+
+impl DifferenceLanes {
+    /// Adds a column (a coordinate's or not) of both matrices as their
+    /// coordinate rows `top` and their multiplier rows `bottom`.
+    pub fn add_column(&mut self, col_coord: bool, top: (&[f64], &[f64]), bottom: (&[f64], &[f64])) {
+        self.take(block(col_coord, true), top.0, top.1);
+        self.take(block(col_coord, false), bottom.0, bottom.1);
+    }
+
+    fn take(&mut self, b: usize, x: &[f64], y: &[f64]) {
+        let d = &mut self.sq[b];
+        let (xs, ys) = (x.chunks_exact(LANES), y.chunks_exact(LANES));
+        let (xr, yr) = (xs.remainder(), ys.remainder());
+        for (a, c) in xs.zip(ys) {
+            for k in 0..LANES {
+                d[k] += (a[k] - c[k]) * (a[k] - c[k]);
+            }
+        }
+        for (k, (a, c)) in xr.iter().zip(yr).enumerate() {
+            d[k] += (a - c) * (a - c);
+        }
+    }
+
+    /// The sum with `D`'s weights: `K`'s entries once, `C`'s times `α²`,
+    /// `Z`'s times `α⁴`.
+    pub fn total(&self, s: &Scale) -> f64 {
+        let a2 = s.alpha * s.alpha;
+        let sum = |b: usize| self.sq[b].iter().sum::<f64>();
+        sum(0) + a2 * sum(1) + a2 * a2 * sum(2)
+    }
 }
 
 /// The sizes of a dense Newton matrix with `coords` coordinates.
 pub(crate) fn dense_sizes(a: &DMatrix<f64>, coords: usize) -> BlockSizes {
-    let mut s = BlockSizes::default();
+    let mut s = SizeLanes::default();
     let c = coords.min(a.nrows());
     for (j, col) in a.column_iter().enumerate() {
         let (top, bottom) = col.as_slice().split_at(c);
         s.add_column(j < c, top, bottom);
     }
-    s
+    s.sizes()
 }
 
 /// `D A D` of a dense Newton matrix with `coords` coordinates.
@@ -304,22 +350,48 @@ mod tests {
         assert_eq!(BlockSizes::default().alpha(), 1.0);
     }
 
-    /// The lanes give the plain running maximum and sum, whatever the
-    /// length's remainder, and a NaN entry does not replace the maximum.
+    /// The lanes give the plain running maximum and sum of each block,
+    /// whatever the halves' lengths and remainders, and a NaN entry does
+    /// not replace the maximum.
     #[test]
     fn lanes_give_the_running_maximum_and_sum() {
-        for n in [0usize, 1, 7, 8, 9, 23] {
+        for n in [0usize, 1, 3, 7, 8, 9, 23] {
             let mut x: Vec<f64> = (0..n).map(|i| ((i * 37 % 11) as f64 - 5.0) * 1.5).collect();
+            let y: Vec<f64> = x.iter().map(|v| 0.5 * v + 1.0).collect();
             let max = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             let sum: f64 = x.iter().map(|v| v * v).sum();
-            let (m, s) = max_and_squares(&x);
-            assert_eq!((largest(&x), m), (max, max), "n = {n}");
-            assert!((s - sum).abs() <= 1e-12 * sum.max(1.0), "n = {n}");
+            let diff: f64 = x.iter().zip(&y).map(|(a, b)| (a - b) * (a - b)).sum();
+            // As one coordinate column's coordinate rows (K), and as two
+            // columns' halves split unevenly (C of each).
+            let mut one = SizeLanes::default();
+            one.add_column(true, &x, &[]);
+            let mut two = SizeLanes::default();
+            let (a, b) = x.split_at(n / 3);
+            two.add_column(true, &[], a);
+            two.add_column(false, b, &[]);
+            let (k, c) = (one.sizes(), two.sizes());
+            assert_eq!((largest(&x), k.k_max, c.c_max), (max, max, max), "n = {n}");
+            assert_eq!((k.c_max, k.z_max, c.k_max, c.z_sq), (0.0, 0.0, 0.0, 0.0));
+            for s in [k.k_sq, c.c_sq] {
+                assert!((s - sum).abs() <= 1e-12 * sum.max(1.0), "n = {n}");
+            }
+            // The differences, weighed by block: all in C here, times α².
+            let scale = Scale {
+                coords: 0,
+                alpha: 3.0,
+                fro: 1.0,
+            };
+            let mut d = DifferenceLanes::default();
+            d.add_column(true, (&[], &[]), (a, &y[..a.len()]));
+            d.add_column(false, (b, &y[a.len()..]), (&[], &[]));
+            assert!((d.total(&scale) - 9.0 * diff).abs() <= 1e-12 * diff.max(1.0));
             if n > 3 {
                 // (the largest, 7.5, is at index 0)
                 x[3] = f64::NAN;
+                let mut nan = SizeLanes::default();
+                nan.add_column(true, &x, &[]);
                 assert_eq!(largest(&x), max, "n = {n}");
-                assert_eq!(max_and_squares(&x).0, max, "n = {n}");
+                assert_eq!(nan.sizes().k_max, max, "n = {n}");
             }
         }
     }

@@ -20,7 +20,7 @@
 //! is orthogonal to that direction to rounding, which the fixed irregular start
 //! vector below makes practically impossible.
 
-use super::condition::{BlockSizes, Scale, largest};
+use super::condition::{BlockSizes, DifferenceLanes, Scale, SizeLanes, largest};
 use faer::Mat;
 use std::cell::Cell;
 
@@ -256,11 +256,12 @@ impl Lu {
             return sizes;
         }
         let c = self.coords.min(self.dim());
+        let mut lanes = SizeLanes::default();
         for j in 0..self.dim() {
             let (top, bottom) = self.a.col_as_slice(j).split_at(c);
-            sizes.add_column(j < c, top, bottom);
+            lanes.add_column(j < c, top, bottom);
         }
-        sizes
+        lanes.sizes()
     }
 
     /// `‖D (b - A) D‖_F / ‖D A D‖_F` for the matrix `A` last factorised and
@@ -285,13 +286,13 @@ impl Lu {
             return d.sqrt() / s.fro;
         }
         let c = s.coords.min(self.dim());
-        let mut d = 0.0f64;
+        let mut d = DifferenceLanes::default();
         for j in 0..self.dim() {
             let (x, y) = (self.a.col_as_slice(j), b.col_as_slice(j));
             let ((xt, xb), (yt, yb)) = (x.split_at(c), y.split_at(c));
-            d += s.column_squares(j, (xt, yt), (xb, yb));
+            d.add_column(j < c, (xt, yt), (xb, yb));
         }
-        d.sqrt() / s.fro
+        d.total(&s).sqrt() / s.fro
     }
 
     /// Adds `(b - A) y` to `out`, `A` the matrix last factorised (within its

@@ -21,7 +21,7 @@
 //! residual check run row by row ([`pivoting::Rows`], [`Live::residual`]),
 //! each row's sum in a register.
 
-use super::condition::{BlockSizes, Scale, largest};
+use super::condition::{DifferenceLanes, Scale, SizeLanes, largest};
 use super::live::Live;
 use super::pattern::Pattern;
 use super::pivoting::{self, Factors};
@@ -337,12 +337,12 @@ impl SparseLu {
         }
         // On the live slots: the others of `a` are zero.
         let (p, c) = (&self.live.pattern, self.pattern.coords());
-        let mut sizes = BlockSizes::default();
+        let mut sizes = SizeLanes::default();
         for j in 0..p.dim() {
             let (top, bottom) = p.column_halves(j);
             sizes.add_column(j < c, &self.live_a[top], &self.live_a[bottom]);
         }
-        let s = sizes.scale(c);
+        let s = sizes.sizes().scale(c);
         self.scale.set(Some(s));
         s
     }
@@ -354,16 +354,16 @@ impl SparseLu {
             return f64::INFINITY;
         }
         let (p, s) = (&*self.pattern, self.scale());
-        let mut d = 0.0f64;
+        let mut d = DifferenceLanes::default();
         for j in 0..p.dim() {
             let (top, bottom) = p.column_halves(j);
-            d += s.column_squares(
-                j,
+            d.add_column(
+                j < s.coords,
                 (&self.a[top.clone()], &values[top]),
                 (&self.a[bottom.clone()], &values[bottom]),
             );
         }
-        d.sqrt() / s.fro
+        d.total(&s).sqrt() / s.fro
     }
 
     /// Adds `(B - A) y` to `out`, `A` the matrix last factorised and `B` the
