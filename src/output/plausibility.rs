@@ -5,7 +5,7 @@
 //! They are hints that a load, a stiffness or a unit is wrong, not errors:
 //! the numbers printed are the model's true equilibrium.
 
-use super::report::BushingReading;
+use super::warning::BushingReading;
 use crate::diagnostic::Diagnostic;
 use crate::model::{BushingId, ElementId, Model, WheelId};
 use crate::statics::State;

@@ -1,11 +1,10 @@
 //! The per-case report of `solve --format json` (`interfaces.md`), and warnings
 //! about bushings driven outside the range of their projected angles.
 
+use super::warning::{BushingReading, angle_warnings_of};
 use crate::geom::Vec3;
 use crate::kc::{WheelQuantities, wheel_quantities_from};
-use crate::model::{
-    Bushing, BushingId, ElementId, FrictionId, FrictionMotion, Model, PartId, SpringId,
-};
+use crate::model::{ElementId, FrictionId, FrictionMotion, Model, PartId, SpringId};
 use crate::statics::coords::Layout;
 use crate::statics::forces::{bushing_state, spring};
 use crate::statics::friction;
@@ -407,55 +406,4 @@ pub fn angle_warnings(model: &Model, state: &State) -> Vec<AngleWarning> {
         .map(|b| BushingReading::of_state(model, &layout, state, b))
         .collect();
     angle_warnings_of(model, &readings)
-}
-
-/// What a case's warnings read of one bushing: the size of its translation
-/// (mm) and its tilts ax, ay (degrees). Read off the case's report where
-/// there is one, so that a path's bushings are evaluated once a case.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BushingReading {
-    pub mm: f64,
-    pub tilt_deg: [f64; 2],
-}
-
-impl BushingReading {
-    pub fn of_state(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> Self {
-        let e = bushing_state(model, layout, state, b);
-        BushingReading {
-            mm: e.t.norm(),
-            tilt_deg: [e.angles.x.to_degrees(), e.angles.y.to_degrees()],
-        }
-    }
-
-    /// The same numbers from the report (the same bits: the report holds
-    /// the translation and the angles in degrees).
-    pub fn of_report(r: &BushingReport) -> Self {
-        let d = &r.deformation;
-        BushingReading {
-            mm: Vec3::new(d[0], d[1], d[2]).norm(),
-            tilt_deg: [d[3], d[4]],
-        }
-    }
-}
-
-/// The angle warnings of one case, `readings[k]` of the model's bushing `k`.
-pub fn angle_warnings_of(model: &Model, readings: &[BushingReading]) -> Vec<AngleWarning> {
-    let mut out = Vec::new();
-    for (k, (b, r)) in model.bushings.iter().zip(readings).enumerate() {
-        // Only the tilts: ax and ay read the direction of z_I alone, and the
-        // projections are exact for a rotation about z_J (az = the angle), so
-        // torsion about the bushing's own axis, however large, is no reason
-        // to doubt them (docs/language.md, "Deformation").
-        for (v, name) in r.tilt_deg.into_iter().zip(["ax", "ay"]) {
-            if v.abs() > ANGLE_LIMIT_DEG {
-                out.push(AngleWarning {
-                    bushing: ElementId::Bushing(BushingId(k as u32)),
-                    name: b.name.clone(),
-                    angle: name,
-                    value_deg: v,
-                });
-            }
-        }
-    }
-    out
 }

@@ -13,18 +13,7 @@ use super::tangent::NewtonMatrix;
 use super::wrench::Wrench;
 use crate::geom::Vec3;
 use crate::model::{JointId, PointLoad, Primitive};
-use nalgebra::{DMatrix, DVector};
-/// The scaled residual and its derivative at one state.
-pub(crate) struct System {
-    /// `S (Q + Phi_q^T λ)`: forces (N) and moments divided by the length (N).
-    pub r: DVector<f64>,
-    /// `S K S` with `K` the derivative of the residual.
-    pub k: DMatrix<f64>,
-    /// Scaled Jacobian of the kept equations and their scaled values (mm).
-    pub jac: DMatrix<f64>,
-    pub phi: DVector<f64>,
-}
-
+use nalgebra::DMatrix;
 /// `diag(1, 1, 1, 1/L, 1/L, 1/L, ...)`: the scaling of coordinates and rows.
 pub(crate) fn col_scale(c: usize, length: f64) -> f64 {
     if c % 6 >= 3 { 1.0 / length } else { 1.0 }
@@ -429,33 +418,4 @@ fn amax(v: &[f64]) -> f64 {
             m.max(x.abs())
         }
     })
-}
-
-pub(crate) fn assemble(
-    p: &Problem,
-    st: &State,
-    loads: &[PointLoad],
-) -> Result<System, StaticsError> {
-    let mut ws = Workspace::new(p);
-    ws.eval(p, st, loads, true)?;
-    let (n, m) = (p.layout.n(), p.kept.len());
-    let a = ws.matrix();
-    Ok(System {
-        r: DVector::from_column_slice(&ws.r),
-        k: a.view((0, 0), (n, n)).into_owned(),
-        jac: a.view((n, 0), (m, n)).into_owned(),
-        phi: DVector::from_column_slice(&ws.phi),
-    })
-}
-
-/// Scaled residual norms: force (of `force`) and constraint (of the length).
-pub(crate) fn errors(p: &Problem, sys: &System, force: f64) -> (f64, f64) {
-    (
-        sys.r.amax() / force,
-        if sys.phi.is_empty() {
-            0.0
-        } else {
-            sys.phi.amax() / p.length
-        },
-    )
 }

@@ -1,11 +1,12 @@
 //! Linearised compliance at an equilibrium: how a marker moves under a small
 //! extra wrench, from the same Newton matrix (constraints included).
 
-use super::assembly::{assemble, col_scale};
+use super::assembly::col_scale;
 use super::coords::marker_kin;
 use super::error::{StaticsError, StaticsErrorKind};
 use super::forces::point_load;
 use super::newton::{CONSTRAINT_TOL, DenseLu, FORCE_TOL, kkt};
+use super::system::assemble;
 use super::{Equilibrium, Problem};
 use crate::geom::Vec3;
 use crate::model::{ElementId, MarkerId, PartId, PointLoad};
@@ -65,7 +66,7 @@ fn unknown_marker() -> StaticsError {
 fn marker_compliance(
     p: &Problem,
     eq: &Equilibrium,
-    sys: &super::assembly::System,
+    sys: &super::system::System,
     lu: &DenseLu,
     marker: MarkerId,
 ) -> Result<Compliance, StaticsError> {

@@ -404,10 +404,10 @@ mod tests {
     #[test]
     fn on_a_mechanism_the_weighed_estimate_is_close_and_far_from_singular() {
         use crate::statics::Problem;
-        use crate::statics::assembly::assemble;
         use crate::statics::linear::Lu;
         use crate::statics::newton::kkt;
         use crate::statics::path::{set_loads, solve_path};
+        use crate::statics::system::assemble;
         use crate::statics::tangent::{Factorisation, NewtonMatrix};
         use crate::statics::testkit::coupled_corners;
         let (m, set) = coupled_corners(2);

@@ -3,9 +3,9 @@
 //! contributing most to it, a nearly unrestrained motion, a friction at its
 //! limit (`brief`: every numeric failure names the model element).
 
-use super::assembly::{assemble, errors};
 use super::coords::State;
 use super::error::{StaticsError, StaticsErrorKind};
+use super::system::{assemble, errors};
 use super::{Problem, forces, friction, newton};
 use crate::model::{ElementId, PointLoad};
 

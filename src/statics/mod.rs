@@ -34,6 +34,7 @@ pub mod redundancy;
 mod refactor;
 pub mod sensitivity;
 mod sparse;
+mod system;
 mod tangent;
 #[cfg(test)]
 pub(crate) mod testkit;

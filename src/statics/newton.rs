@@ -11,11 +11,12 @@
 //! kept for the whole solve, so an iteration allocates almost nothing.
 
 use super::Problem;
-use super::assembly::{System, Workspace, col_scale};
+use super::assembly::{Workspace, col_scale};
 use super::coords::State;
 use super::error::{StaticsError, StaticsErrorKind};
 use super::extrapolation::Extrapolation;
 use super::mobility::describe_motion;
+use super::system::System;
 use super::tangent::Factorisation;
 use crate::model::{ElementId, PointLoad};
 use nalgebra::{DMatrix, DVector};

@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::geom::Vec3;
-use crate::statics::assembly::assemble;
+use crate::statics::system::assemble;
 use crate::statics::{State, solve};
 
 fn mcpherson() -> crate::model::Model {
