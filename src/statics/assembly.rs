@@ -7,7 +7,7 @@ use super::Problem;
 use super::constraint::{evaluate_into, is_length, joint_markers};
 use super::coords::{MarkerKin, State, marker_kin};
 use super::error::StaticsError;
-use super::forces::{for_each_element, point_load, point_load_into};
+use super::forces::{for_each_element, point_load_into};
 use super::newton::Homotopy;
 use super::tangent::NewtonMatrix;
 use super::wrench::Wrench;
@@ -323,14 +323,15 @@ impl Workspace {
     ) {
         let l = p.length;
         let (r, scale) = (&mut self.r, &self.scale);
+        let w = &mut Wrench::new(None, None, Vec3::zeros(), Vec3::zeros());
         for ld in old {
-            if let Some(w) = point_load(&p.model, &p.layout, st, ld) {
+            if point_load_into(&p.model, &p.layout, st, ld, w) {
                 w.each_force(|i, v| r[i] -= v * scale[i]);
             }
         }
         let mut big = 0.0f64;
         for ld in new {
-            if let Some(w) = point_load(&p.model, &p.layout, st, ld) {
+            if point_load_into(&p.model, &p.layout, st, ld, w) {
                 big = big.max(w.size(l));
                 w.each_force(|i, v| r[i] += v * scale[i]);
             }
