@@ -39,6 +39,9 @@ pub(crate) struct Workspace {
     pub load_scale: f64,
     /// The coordinate scaling `col_scale` of each coordinate.
     pub(crate) scale: Vec<f64>,
+    /// The two wrenches an evaluation writes in place (see `scatter`),
+    /// kept from one evaluation to the next.
+    wrenches: Box<[Wrench; 2]>,
 }
 
 impl Workspace {
@@ -68,6 +71,9 @@ impl Workspace {
             element_scale: 0.0,
             load_scale: 0.0,
             scale: (0..n).map(|c| col_scale(c, p.length)).collect(),
+            wrenches: Box::new(std::array::from_fn(|_| {
+                Wrench::new(None, None, Vec3::zeros(), Vec3::zeros())
+            })),
         }
     }
 
@@ -109,6 +115,7 @@ impl Workspace {
             element_scale,
             load_scale,
             scale,
+            wrenches,
         } = self;
         r.iter_mut().for_each(|v| *v = 0.0);
         if tangent {
@@ -177,18 +184,15 @@ impl Workspace {
         })?;
         *element_scale = elem;
         // Two wrenches written in place (each whole: `Wrench::reset`), not
-        // returned and copied (700 bytes each). The loads' wrenches come in
-        // the first. For the constraints they swap roles: one receives each
+        // returned and copied, nor made afresh (700 bytes each). The loads'
+        // wrenches come in the first. For the constraints they swap roles: one receives each
         // equation's unit reaction, the other holds its group's sum. A group
         // starts from its first equation's wrench where it lies (scaled by
         // λ), and the previous sum's buffer receives the next equation.
-        let mut buffers = (
-            Wrench::new(None, None, Vec3::zeros(), Vec3::zeros()),
-            Wrench::new(None, None, Vec3::zeros(), Vec3::zeros()),
-        );
+        let [w0, w1] = &mut **wrenches;
         *load_scale = 0.0;
         for ld in loads {
-            let w = &mut buffers.0;
+            let w = &mut *w0;
             if point_load_into(&p.model, &p.layout, st, ld, w) {
                 *load_scale = load_scale.max(w.size(l));
                 add(w, 1.0, r, a, tangent, scale, &mut inside);
@@ -201,7 +205,7 @@ impl Workspace {
             let (mi, mj) = joint_markers(&p.model, &p.layout, st, joint);
             (joint, mi, mj)
         });
-        let (mut w, mut sum) = (&mut buffers.0, &mut buffers.1);
+        let (mut w, mut sum) = (w0, w1);
         // The λ-weighted sum of the unit reactions of consecutive equations
         // of one joint whose wrenches share their arms (see `Arms`), whose
         // tangent is the sum of theirs: the tangent is linear in the forces
