@@ -4,7 +4,7 @@
 //! [`super::newton`] for the scaling and the loop that uses them).
 
 use super::Problem;
-use super::constraint::{evaluate_into, is_length, joint_markers};
+use super::constraint::{evaluate_into, is_length};
 use super::coords::{MarkerKin, State, marker_kin};
 use super::error::StaticsError;
 use super::forces::{for_each_element, point_load_into};
@@ -185,10 +185,11 @@ impl Workspace {
         *element_scale = elem;
         // Two wrenches written in place (each whole: `Wrench::reset`), not
         // returned and copied, nor made afresh (700 bytes each). The loads'
-        // wrenches come in the first. For the constraints they swap roles: one receives each
-        // equation's unit reaction, the other holds its group's sum. A group
-        // starts from its first equation's wrench where it lies (scaled by
-        // λ), and the previous sum's buffer receives the next equation.
+        // wrenches come in the first. For the constraints they swap roles:
+        // one receives each equation's unit reaction, the other holds its
+        // group's sum. A group starts from its first equation's wrench where
+        // it lies (scaled by λ), and the previous sum's buffer receives the
+        // next equation.
         let [w0, w1] = &mut **wrenches;
         *load_scale = 0.0;
         for ld in loads {
@@ -199,11 +200,13 @@ impl Workspace {
             }
         }
         // A joint's equations are consecutive and share its marker frames
-        // (computed once a joint, and borrowed, not copied, by each).
+        // (computed once a joint, each written where it lies, and borrowed,
+        // not copied, by each equation).
+        let frame = |m| marker_kin(&p.model, &p.layout, st, m);
         let mut frames: Option<(JointId, MarkerKin, MarkerKin)> = p.kept.first().map(|&e| {
             let joint = p.equations[e].joint;
-            let (mi, mj) = joint_markers(&p.model, &p.layout, st, joint);
-            (joint, mi, mj)
+            let j = &p.model.joints[joint.index()];
+            (joint, frame(j.i), frame(j.j))
         });
         let (mut w, mut sum) = (w0, w1);
         // The λ-weighted sum of the unit reactions of consecutive equations
@@ -219,11 +222,10 @@ impl Workspace {
             // (Set before the loop from its first equation.)
             let Some(f) = frames.as_mut() else { break };
             if f.0 != eq.joint {
-                // Each frame written where it lies (a returned pair is copied).
-                let joint = &p.model.joints[eq.joint.index()];
-                f.1 = marker_kin(&p.model, &p.layout, st, joint.i);
-                f.2 = marker_kin(&p.model, &p.layout, st, joint.j);
+                let j = &p.model.joints[eq.joint.index()];
                 f.0 = eq.joint;
+                f.1 = frame(j.i);
+                f.2 = frame(j.j);
             }
             let (_, mi, mj) = &*f;
             let v = evaluate_into(mi, mj, eq.primitive, w);
@@ -327,7 +329,7 @@ impl Workspace {
     ) {
         let l = p.length;
         let (r, scale) = (&mut self.r, &self.scale);
-        let w = &mut Wrench::new(None, None, Vec3::zeros(), Vec3::zeros());
+        let w = &mut self.wrenches[0];
         for ld in old {
             if point_load_into(&p.model, &p.layout, st, ld, w) {
                 w.each_force(|i, v| r[i] -= v * scale[i]);
