@@ -399,11 +399,6 @@ pub struct AngleWarning {
 }
 
 pub fn angle_warnings(model: &Model, state: &State) -> Vec<AngleWarning> {
-    let layout = Layout::new(model);
-    let readings: Vec<BushingReading> = model
-        .bushings
-        .iter()
-        .map(|b| BushingReading::of_state(model, &layout, state, b))
-        .collect();
+    let readings = BushingReading::all_at(model, &Layout::new(model), state);
     angle_warnings_of(model, &readings)
 }

@@ -45,12 +45,7 @@ impl<'m> PathWarnings<'m> {
 
     /// The next converged case's state.
     pub fn add(&mut self, state: &State) {
-        let (model, layout) = (self.model, &self.layout);
-        let readings: Vec<BushingReading> = model
-            .bushings
-            .iter()
-            .map(|b| BushingReading::of_state(model, layout, state, b))
-            .collect();
+        let readings = BushingReading::all_at(self.model, &self.layout, state);
         self.push(state, &readings);
     }
 
@@ -137,6 +132,15 @@ pub struct BushingReading {
 }
 
 impl BushingReading {
+    /// Every bushing's, in the model's order, evaluated at `state`.
+    pub fn all_at(model: &Model, layout: &Layout, state: &State) -> Vec<Self> {
+        model
+            .bushings
+            .iter()
+            .map(|b| BushingReading::of_state(model, layout, state, b))
+            .collect()
+    }
+
     pub fn of_state(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> Self {
         let e = bushing_state(model, layout, state, b);
         BushingReading {
