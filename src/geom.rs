@@ -135,10 +135,6 @@ mod tests {
         (a - b).abs().max() < tol
     }
 
-    /// The products with a skew matrix by cross products are the generic
-    /// products to the bit, but for the sign of a zero (random vectors and
-    /// matrices, a skew matrix as the other factor too, and entries that
-    /// are exact zeros).
     /// Every entry the same bits, but for the sign of an exact zero (the
     /// generic product adds `±0` products the cross product leaves out).
     fn same_bits(got: &Mat3, want: &Mat3) {
@@ -150,6 +146,10 @@ mod tests {
         }
     }
 
+    /// The products with a skew matrix by cross products are the generic
+    /// products to the bit, but for the sign of a zero (random vectors and
+    /// matrices, a skew matrix as the other factor too, and entries that
+    /// are exact zeros).
     #[test]
     fn products_with_a_skew_matrix_are_the_generic_products_to_the_bit() {
         let mut rng = crate::statics::testkit::Lcg::new(0x2545_f491);
