@@ -56,14 +56,7 @@ pub fn paths(problem: &Problem, jobs: &[PathJob]) -> Vec<PathRun> {
 mod tests {
     use super::*;
     use crate::statics::path::set_loads;
-
-    fn mcpherson() -> crate::model::Model {
-        let (_, c) = crate::check::check_str(
-            "mcpherson.axle",
-            include_str!("../../examples/mcpherson.axle"),
-        );
-        c.model.expect("the example checks")
-    }
+    use crate::statics::testkit::mcpherson;
 
     /// Jobs that differ: table 5-1 scaled by 0.65..1.0, from design and from
     /// the previous job's end, more jobs than threads.

@@ -290,11 +290,7 @@ mod tests {
     /// large) the correction starts afresh and the equilibria still agree.
     #[test]
     fn a_sweep_with_corrected_predictions_reaches_the_same_equilibria_sooner() {
-        let (_, c) = crate::check::check_str(
-            "mcpherson.axle",
-            include_str!("../../examples/mcpherson.axle"),
-        );
-        let m = c.model.expect("the example checks");
+        let m = crate::statics::testkit::mcpherson();
         let p = Problem::new(&m).expect("problem");
         let load = |fz: f64| {
             vec![PointLoad {

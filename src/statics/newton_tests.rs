@@ -4,15 +4,8 @@
 use super::*;
 use crate::geom::Vec3;
 use crate::statics::system::assemble;
+use crate::statics::testkit::mcpherson;
 use crate::statics::{State, solve};
-
-fn mcpherson() -> crate::model::Model {
-    let (_, c) = crate::check::check_str(
-        "mcpherson.axle",
-        include_str!("../../examples/mcpherson.axle"),
-    );
-    c.model.expect("the example checks")
-}
 
 fn wheel_load(m: &crate::model::Model, fx: f64, fy: f64, fz: f64) -> Vec<PointLoad> {
     vec![PointLoad {

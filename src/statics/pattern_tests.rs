@@ -101,11 +101,7 @@ fn block_slots_are_the_stored_entries() {
 /// elsewhere.
 #[test]
 fn the_pattern_holds_every_entry_of_the_mcpherson_matrix() {
-    let (_, c) = crate::check::check_str(
-        "mcpherson.axle",
-        include_str!("../../examples/mcpherson.axle"),
-    );
-    let m = c.model.expect("the example checks");
+    let m = crate::statics::testkit::mcpherson();
     let p = Problem::new(&m).expect("problem");
     let pat = Pattern::new(&p).expect("pattern");
     let mut st = State::design(&m);

@@ -145,16 +145,21 @@ pub fn random_state(model: &Model, seed: u64) -> State {
     s
 }
 
+/// The McPherson example, checked.
+pub fn mcpherson() -> Model {
+    let (_, c) = crate::check::check_str(
+        "mcpherson.axle",
+        include_str!("../../examples/mcpherson.axle"),
+    );
+    c.model.expect("the example checks")
+}
+
 /// `n` copies of the McPherson example's corner on its one ground, corner
 /// `k`'s front arm held to corner `k + 1`'s by a soft bushing (100 N/mm,
 /// 1e5 N·mm/rad), with table 5-1 at every wheel (the coupled-corners bench
 /// of `benches/statics.rs`, smaller): one mechanism, no independent blocks.
 pub fn coupled_corners(n: usize) -> (Model, LoadSetId) {
-    let (_, c) = crate::check::check_str(
-        "mcpherson.axle",
-        include_str!("../../examples/mcpherson.axle"),
-    );
-    let base = c.model.expect("the example checks");
+    let base = mcpherson();
     let set = base.load_set_named("thesis_table_5_1").expect("stdlib set");
     let ground = base.ground().expect("ground");
     let mut m = base.clone();
