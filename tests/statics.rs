@@ -819,7 +819,8 @@ fn mcpherson_without_top_mount_torsion_converges_or_names_the_cause() {
 /// The path simulator keeps one solver along the path, so every case after
 /// the first starts with the previous equilibrium's factorisation as a linear
 /// predictor: it needs fewer factorisations than the same case solved by a
-/// fresh solver from the same start, which factorises on every Newton step.
+/// fresh solver from the same start, which factorises on every Newton step
+/// but the chord steps near the equilibrium.
 /// (Fails when the predictor is not used: the counts are then equal.)
 #[test]
 fn the_path_reuses_the_previous_factorisation_as_a_predictor() {
@@ -841,8 +842,13 @@ fn the_path_reuses_the_previous_factorisation_as_a_predictor() {
             fresh.factorizations,
             fresh.iterations
         );
-        // A fresh solver factorises once per Newton step.
-        assert!(fresh.factorizations >= fresh.iterations, "case {}", k + 1);
+        // A fresh solver factorises for every Newton step but its chord
+        // steps, each of which follows a factorised step.
+        assert!(
+            2 * fresh.factorizations >= fresh.iterations,
+            "case {}",
+            k + 1
+        );
         // Both reach the same equilibrium.
         let (a, b) = (
             path[k].state.part_pose(PartId(1)).0,

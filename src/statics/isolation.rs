@@ -45,10 +45,15 @@ pub(crate) const CHECK_SINGULAR_BELOW: f64 = 1e-10;
 /// smallest singular value. Most equilibria need neither this nor a
 /// factorisation: their distance to `A_f` is below the weighed condition
 /// estimate. Counted on d3e8784, all 500 cases of the random McPherson
-/// path pass on that bound (distances at most 3.7e-6 against estimates of
+/// path passed on that bound (distances at most 3.7e-6 against estimates of
 /// at least 1.26e-5), and so do the car's two cases and every case of its
 /// front bump sweep (the closest, its curb case from design: 2.2e-7
-/// against 3.5e-7; estimates at least 2.07e-7). Before the parts'
+/// against 3.5e-7; estimates at least 2.07e-7). Since a case may end with
+/// a chord step ([`super::newton`]), `A_f` is then two steps from the
+/// equilibrium: on the random path 397 cases pass on the bound (distances
+/// up to 6.5e-5), 93 stand in by the estimate of `‖E‖` (at most 7.4e-3),
+/// and 10 are factorised (one estimate of 1.1e-2, nine beyond
+/// [`PERTURBATION_WITHIN`]); the car's cases and sweep are as before. Before the parts'
 /// coordinates were referred to their markers' centroid
 /// ([`super::coords::Layout::reference`]), 26 McPherson cases needed this
 /// limit (7e-4 to 8e-3) and the car's case from design was factorised at
