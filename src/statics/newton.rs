@@ -93,6 +93,9 @@ pub(crate) struct Solver {
     /// The second-order part of the last case's prediction, added to this
     /// case's when their load steps agree.
     pub extrapolation: Extrapolation,
+    /// Whether chord steps may be taken (`CHORD_WITHIN`; the tests compare
+    /// with Newton steps throughout).
+    pub chords: bool,
     /// The step length the last successful line search took.
     alpha: f64,
     /// Whether the line search's trials add the extrapolation's correction
@@ -122,6 +125,7 @@ impl Solver {
             ended_at: None,
             attempts_left: None,
             extrapolation: Extrapolation::default(),
+            chords: true,
             alpha: 1.0,
             correct: false,
             x: vec![0.0; n + m],
@@ -200,7 +204,7 @@ pub(crate) fn newton(
     // Whether `sv.lu` factorises the matrix of the iterate the last step
     // started from (a fresh Newton step led here): a chord step may follow.
     let mut chord = false;
-    let chords = p.model.frictions.is_empty();
+    let chords = sv.chords && p.model.frictions.is_empty();
     for it in 0..MAX_ITERATIONS {
         let (ef, ec) = sv.ws.errors(p);
         if ef < FORCE_TOL && ec < CONSTRAINT_TOL {

@@ -169,3 +169,80 @@ fn newton_matrix_equals_a_finite_difference_jacobian() {
     eprintln!("Newton matrix vs central differences: K {worst_k:.1e}, J {worst_j:.1e}");
     assert!(worst_k < 1e-7 && worst_j < 1e-7, "{worst_k} {worst_j}");
 }
+
+/// Chord steps (`CHORD_WITHIN`) save factorisations and reach the
+/// equilibria Newton steps reach, up to where each solve may stop (see
+/// `stopping_error`): 30 McPherson cases of a random walk of the wheel
+/// load (fixed seed), solved along a path with and without them.
+#[test]
+fn chord_steps_reach_the_newton_equilibria_with_fewer_factorisations() {
+    use crate::statics::{Equilibrium, solve_reusing, stopping_error};
+    let m = mcpherson();
+    let p = Problem::new(&m).expect("problem");
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move |lo: f64, hi: f64| {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        lo + (hi - lo) * (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut f = Vec3::new(0.0, 0.0, 4000.0);
+    let mut loads = Vec::new();
+    for _ in 0..30 {
+        let step = Vec3::new(next(-1.0, 1.0), next(-1.0, 1.0), next(-1.0, 1.0));
+        f += step * (1500.0 / step.norm().max(1.0)) * next(0.2, 1.0);
+        f = Vec3::new(
+            f.x.clamp(-2500.0, 2500.0),
+            f.y.clamp(-2500.0, 2500.0),
+            f.z.clamp(2000.0, 7000.0),
+        );
+        loads.push(wheel_load(&m, f.x, f.y, f.z));
+    }
+    let run = |chords: bool| {
+        let design = State::design(&m);
+        let mut sv = Solver::new(&p, &design);
+        sv.chords = chords;
+        let (mut buffers, mut st) = (Some(sv), design);
+        let mut out: Vec<Equilibrium> = Vec::new();
+        for l in &loads {
+            let eq = solve_reusing(&p, l, &st, &mut buffers).expect("solves");
+            st = eq.state.clone();
+            out.push(eq);
+        }
+        out
+    };
+    let (newton, chord) = (run(false), run(true));
+    let sum = |r: &[Equilibrium], f: fn(&Equilibrium) -> usize| r.iter().map(f).sum::<usize>();
+    let (fa, fb) = (
+        sum(&newton, |e| e.factorizations),
+        sum(&chord, |e| e.factorizations),
+    );
+    let (ia, ib) = (
+        sum(&newton, |e| e.iterations),
+        sum(&chord, |e| e.iterations),
+    );
+    // Each chord step replaces a factorisation; a few may not converge and
+    // cost an iteration more.
+    assert!(fb + 8 <= fa, "{fb} factorisations against {fa}");
+    assert!(ib <= ia + 3, "{ib} iterations against {ia}");
+    for (k, (a, b)) in newton.iter().zip(&chord).enumerate() {
+        assert!(b.iterations <= 2 * b.factorizations + 1, "case {k}");
+        let (sa, sb) = (
+            stopping_error(&p, a).unwrap(),
+            stopping_error(&p, b).unwrap(),
+        );
+        for (x, y) in sa.iter().zip(&sb) {
+            let ((ta, ra), (tb, rb)) = (a.state.part_pose(x.part), b.state.part_pose(x.part));
+            let c = p.layout.reference[x.part.index()];
+            let (ta, tb) = (ta + ra * c, tb + rb * c);
+            assert!(
+                (ta - tb).norm() <= x.distance + y.distance,
+                "case {k}: {ta} {tb}"
+            );
+            assert!(
+                (ra - rb).norm() <= 2f64.sqrt() * (x.angle + y.angle),
+                "case {k}"
+            );
+        }
+    }
+}
