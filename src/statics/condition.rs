@@ -1,5 +1,5 @@
 //! How close the Newton matrix is to singular, cheaply: the estimates that
-//! decide when the exact SVD test of [`super::newton::singular_direction`]
+//! decide when the exact SVD test of [`super::system::singular_direction`]
 //! must run, and when the factorisation of a nearby matrix may stand for
 //! the equilibrium's ([`super::isolation`]).
 //!
@@ -405,9 +405,9 @@ mod tests {
     fn on_a_mechanism_the_weighed_estimate_is_close_and_far_from_singular() {
         use crate::statics::Problem;
         use crate::statics::linear::Lu;
-        use crate::statics::newton::kkt;
         use crate::statics::path::{set_loads, solve_path};
         use crate::statics::system::assemble;
+        use crate::statics::system::kkt;
         use crate::statics::tangent::{Factorisation, NewtonMatrix};
         use crate::statics::testkit::coupled_corners;
         let (m, set) = coupled_corners(2);

@@ -5,8 +5,8 @@
 
 use super::coords::State;
 use super::error::{StaticsError, StaticsErrorKind};
-use super::system::{assemble, errors};
-use super::{Problem, forces, friction, newton};
+use super::system::{assemble, errors, kkt, softest_motion};
+use super::{Problem, forces, friction};
 use crate::model::{ElementId, PointLoad};
 
 /// The error of a path that used up its budget of load sub-steps: the model
@@ -35,7 +35,7 @@ pub(super) fn not_converged(
     let (ef, ec) = errors(p, &sys, force);
     let mut elements = Vec::new();
     // A nearly singular Newton matrix is the usual cause: name its motion first.
-    if let Some((ratio, motion)) = newton::softest_motion(p, &newton::kkt(&sys)) {
+    if let Some((ratio, motion)) = softest_motion(p, &kkt(&sys)) {
         if ratio < 1e-6 {
             return StaticsError::new(
                 StaticsErrorKind::NotConverged,

@@ -1,6 +1,6 @@
 //! Whether an equilibrium is isolated: an estimate of the reciprocal
 //! condition of its Newton matrix, for [`super::finish`], which runs the
-//! exact singular-value test ([`super::newton::singular_direction`]) below
+//! exact singular-value test ([`super::system::singular_direction`]) below
 //! [`CHECK_SINGULAR_BELOW`]. A load that happens not to excite a free
 //! motion still converges; the equilibrium is then not unique, which is an
 //! error, not a result.

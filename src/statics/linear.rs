@@ -12,7 +12,7 @@
 //! blocked order only the rounding of the factors differs.
 //!
 //! The estimate decides when the exact (and, at this size, far more costly)
-//! SVD test of [`super::newton::singular_direction`] must run: it is a lower
+//! SVD test of [`super::system::singular_direction`] must run: it is a lower
 //! bound on `‖A⁻¹‖` from two steps of inverse iteration, the method of LAPACK's
 //! condition estimators. A singular matrix amplifies every start vector with a
 //! component along its null direction by `1/σ_min`, so the estimate flags it

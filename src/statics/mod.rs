@@ -386,7 +386,7 @@ fn finish(
     // A free motion at equilibrium is an error, not a result (`isolation`).
     let rcond = isolation::equilibrium_condition(p, sv);
     if rcond < CHECK_SINGULAR_BELOW
-        && let Some(e) = newton::singular_direction(p, &sv.ws.matrix())
+        && let Some(e) = system::singular_direction(p, &sv.ws.matrix())
     {
         return Err(e);
     }

@@ -20,15 +20,14 @@
 //! instead of 67).
 
 use super::Problem;
-use super::assembly::{Workspace, col_scale};
+use super::assembly::Workspace;
 use super::coords::State;
-use super::error::{StaticsError, StaticsErrorKind};
+use super::error::StaticsError;
 use super::extrapolation::Extrapolation;
-use super::mobility::describe_motion;
-use super::system::System;
+use super::system::singular_direction;
 use super::tangent::Factorisation;
 use crate::model::{ElementId, PointLoad};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 
 /// Relative tolerance on the force residual (of the force scale at the state
 /// judged: the largest element force there or applied load, see
@@ -383,96 +382,6 @@ fn line_search(
         alpha *= 0.5;
     }
     false
-}
-
-/// The scaled Newton matrix `[S K S, J^T; J, 0]`.
-pub(crate) fn kkt(sys: &System) -> DMatrix<f64> {
-    let (n, m) = (sys.k.nrows(), sys.jac.nrows());
-    let mut a = DMatrix::zeros(n + m, n + m);
-    a.view_mut((0, 0), (n, n)).copy_from(&sys.k);
-    a.view_mut((0, n), (n, m)).copy_from(&sys.jac.transpose());
-    a.view_mut((n, 0), (m, n)).copy_from(&sys.jac);
-    a
-}
-
-/// A dense square matrix with faer's LU of it and its largest entry (found
-/// once for every right-hand side [`DenseLu::solve`] checks).
-pub(crate) struct DenseLu<'a> {
-    a: &'a DMatrix<f64>,
-    lu: faer::linalg::solvers::PartialPivLu<f64>,
-    a_max: f64,
-}
-
-impl<'a> DenseLu<'a> {
-    /// faer's LU of the dense square matrix `a`.
-    pub fn new(a: &'a DMatrix<f64>) -> DenseLu<'a> {
-        let nn = a.nrows();
-        DenseLu {
-            a,
-            lu: faer::MatRef::from_column_major_slice(a.as_slice(), nn, nn).partial_piv_lu(),
-            a_max: a.amax(),
-        }
-    }
-
-    /// Solves `a x = b`; None if the result is not finite or does not
-    /// satisfy the system (faer does not report singular matrices).
-    pub fn solve(&self, b: &DVector<f64>) -> Option<DVector<f64>> {
-        let nn = self.a.nrows();
-        let fb = faer::MatRef::from_column_major_slice(b.as_slice(), nn, 1);
-        let sol = faer::linalg::solvers::Solve::solve(&self.lu, fb);
-        let x = DVector::from_fn(nn, |i, _| sol[(i, 0)]);
-        if !x.iter().all(|v| v.is_finite()) {
-            return None;
-        }
-        let res = (self.a * &x - b).amax();
-        if res > 1e-8 * (b.amax() + self.a_max * x.amax()) {
-            return None;
-        }
-        Some(x)
-    }
-}
-
-/// If the scaled Newton matrix is numerically singular, the unrestrained motion
-/// as an error naming the part that moves most. Judged on the matrix with its
-/// multipliers weighed as the condition estimate weighs them
-/// ([`super::condition`]), the estimate that decides when this test runs.
-pub(crate) fn singular_direction(p: &Problem, a: &DMatrix<f64>) -> Option<StaticsError> {
-    let (ratio, motion) = softest_motion(p, &super::condition::scaled(a, p.layout.n()))?;
-    if ratio > 1e-12 {
-        return None;
-    }
-    Some(StaticsError::new(
-        StaticsErrorKind::Unrestrained,
-        vec![ElementId::Part(motion.part)],
-        format!(
-            "the equilibrium equations are singular: nothing restrains the {}",
-            motion.words
-        ),
-    ))
-}
-
-/// The softest motion of the scaled Newton matrix: its smallest singular value
-/// relative to the largest, and the motion of its singular vector.
-pub(crate) fn softest_motion(
-    p: &Problem,
-    a: &DMatrix<f64>,
-) -> Option<(f64, super::mobility::Motion)> {
-    let nn = a.nrows();
-    let n = p.layout.n();
-    let fa = faer::MatRef::from_column_major_slice(a.as_slice(), nn, nn);
-    let svd = fa.svd().ok()?;
-    let s = svd.S().column_vector();
-    let smax = s[0];
-    let smin = s[nn - 1];
-    let v = svd.V();
-    let dq = DVector::from_fn(n, |i, _| v[(i, nn - 1)] * col_scale(i, p.length));
-    if !(smax > 0.0) || dq.iter().all(|x| *x == 0.0) {
-        return None;
-    }
-    Some((
-        smin / smax,
-        describe_motion(&p.model, &p.layout, &dq, p.length),
-    ))
 }
 
 #[cfg(test)]

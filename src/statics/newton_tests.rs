@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::geom::Vec3;
+use crate::statics::assembly::col_scale;
 use crate::statics::system::assemble;
 use crate::statics::testkit::mcpherson;
 use crate::statics::{State, solve};
