@@ -257,7 +257,8 @@ fn add(sum: &mut Vec<f64>, v: impl Iterator<Item = f64>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::statics::{Equilibrium, Problem, solve_reusing, stopping_error};
+    use crate::statics::testkit::assert_same_equilibrium;
+    use crate::statics::{Equilibrium, Problem, solve_reusing};
 
     /// With one, two and three corrections the next is the constant, line
     /// and parabola through them (exact on such sequences).
@@ -320,22 +321,9 @@ mod tests {
         let iterations = |r: &[Equilibrium]| r.iter().map(|e| e.iterations).sum::<usize>();
         let (a, b) = (iterations(&plain), iterations(&corrected));
         assert!(b + 8 <= a, "{b} iterations against {a}");
-        // The same equilibria, up to where each solve stopped (see
-        // `stopping_error`; rotations as `‖R_a - R_b‖`, at most √2 times
-        // the angle between them).
-        for (a, b) in plain.iter().zip(&corrected) {
-            let (sa, sb) = (
-                stopping_error(&p, a).unwrap(),
-                stopping_error(&p, b).unwrap(),
-            );
-            for (x, y) in sa.iter().zip(&sb) {
-                let ((ta, ra), (tb, rb)) = (a.state.part_pose(x.part), b.state.part_pose(x.part));
-                // (The distances are the reference points'.)
-                let c = p.layout.reference[x.part.index()];
-                let (ta, tb) = (ta + ra * c, tb + rb * c);
-                assert!((ta - tb).norm() <= x.distance + y.distance, "{ta} {tb}");
-                assert!((ra - rb).norm() <= 2f64.sqrt() * (x.angle + y.angle));
-            }
+        // The same equilibria, up to where each solve stopped.
+        for (k, (a, b)) in plain.iter().zip(&corrected).enumerate() {
+            assert_same_equilibrium(&p, a, b, k);
         }
     }
 }

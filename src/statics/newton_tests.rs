@@ -177,21 +177,16 @@ fn newton_matrix_equals_a_finite_difference_jacobian() {
 /// load (fixed seed), solved along a path with and without them.
 #[test]
 fn chord_steps_reach_the_newton_equilibria_with_fewer_factorisations() {
-    use crate::statics::{Equilibrium, solve_reusing, stopping_error};
+    use crate::statics::testkit::{Lcg, assert_same_equilibrium};
+    use crate::statics::{Equilibrium, solve_reusing};
     let m = mcpherson();
     let p = Problem::new(&m).expect("problem");
-    let mut seed = 0x2545_f491_4f6c_dd1du64;
-    let mut next = move |lo: f64, hi: f64| {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        lo + (hi - lo) * (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = Lcg::new(12);
     let mut f = Vec3::new(0.0, 0.0, 4000.0);
     let mut loads = Vec::new();
     for _ in 0..30 {
-        let step = Vec3::new(next(-1.0, 1.0), next(-1.0, 1.0), next(-1.0, 1.0));
-        f += step * (1500.0 / step.norm().max(1.0)) * next(0.2, 1.0);
+        let step = rng.vec(1.0);
+        f += step * (1500.0 / step.norm().max(1.0)) * (0.6 + 0.4 * rng.next());
         f = Vec3::new(
             f.x.clamp(-2500.0, 2500.0),
             f.y.clamp(-2500.0, 2500.0),
@@ -228,22 +223,6 @@ fn chord_steps_reach_the_newton_equilibria_with_fewer_factorisations() {
     assert!(ib <= ia + 3, "{ib} iterations against {ia}");
     for (k, (a, b)) in newton.iter().zip(&chord).enumerate() {
         assert!(b.iterations <= 2 * b.factorizations + 1, "case {k}");
-        let (sa, sb) = (
-            stopping_error(&p, a).unwrap(),
-            stopping_error(&p, b).unwrap(),
-        );
-        for (x, y) in sa.iter().zip(&sb) {
-            let ((ta, ra), (tb, rb)) = (a.state.part_pose(x.part), b.state.part_pose(x.part));
-            let c = p.layout.reference[x.part.index()];
-            let (ta, tb) = (ta + ra * c, tb + rb * c);
-            assert!(
-                (ta - tb).norm() <= x.distance + y.distance,
-                "case {k}: {ta} {tb}"
-            );
-            assert!(
-                (ra - rb).norm() <= 2f64.sqrt() * (x.angle + y.angle),
-                "case {k}"
-            );
-        }
+        assert_same_equilibrium(&p, a, b, k);
     }
 }

@@ -154,6 +154,35 @@ pub fn mcpherson() -> Model {
     c.model.expect("the example checks")
 }
 
+/// Asserts that two solves of the same case reached the same equilibrium,
+/// up to where each may have stopped (`stopping_error`): every part's
+/// reference point within the sum of their distance bounds, its rotation
+/// within the sum of their angle bounds (`‖R_a - R_b‖` is at most √2 times
+/// the angle between them). `case` names the case in a failure.
+pub fn assert_same_equilibrium(
+    p: &super::Problem,
+    a: &super::Equilibrium,
+    b: &super::Equilibrium,
+    case: usize,
+) {
+    let sa = super::stopping_error(p, a).expect("a bound");
+    let sb = super::stopping_error(p, b).expect("a bound");
+    for (x, y) in sa.iter().zip(&sb) {
+        let ((ta, ra), (tb, rb)) = (a.state.part_pose(x.part), b.state.part_pose(x.part));
+        // (The distances are the reference points'.)
+        let c = p.layout.reference[x.part.index()];
+        let (ta, tb) = (ta + ra * c, tb + rb * c);
+        assert!(
+            (ta - tb).norm() <= x.distance + y.distance,
+            "case {case}: {ta} {tb}"
+        );
+        assert!(
+            (ra - rb).norm() <= 2f64.sqrt() * (x.angle + y.angle),
+            "case {case}"
+        );
+    }
+}
+
 /// `n` copies of the McPherson example's corner on its one ground, corner
 /// `k`'s front arm held to corner `k + 1`'s by a soft bushing (100 N/mm,
 /// 1e5 N·mm/rad), with table 5-1 at every wheel (the coupled-corners bench
