@@ -171,17 +171,10 @@ fn newton_matrix_equals_a_finite_difference_jacobian() {
     assert!(worst_k < 1e-7 && worst_j < 1e-7, "{worst_k} {worst_j}");
 }
 
-/// Chord steps (`CHORD_WITHIN`) save factorisations and reach the
-/// equilibria Newton steps reach, up to where each solve may stop (see
-/// `stopping_error`): 30 McPherson cases of a random walk of the wheel
-/// load (fixed seed), solved along a path with and without them.
-#[test]
-fn chord_steps_reach_the_newton_equilibria_with_fewer_factorisations() {
-    use crate::statics::testkit::{Lcg, assert_same_equilibrium};
-    use crate::statics::{Equilibrium, solve_reusing};
-    let m = mcpherson();
-    let p = Problem::new(&m).expect("problem");
-    let mut rng = Lcg::new(12);
+/// 30 McPherson cases of a random walk of the wheel load (`Lcg(12)`):
+/// steps of up to 1 500 N, `fx`, `fy` within ±2 500 N, `fz` 2 000-7 000 N.
+fn random_walk(m: &crate::model::Model) -> Vec<Vec<PointLoad>> {
+    let mut rng = crate::statics::testkit::Lcg::new(12);
     let mut f = Vec3::new(0.0, 0.0, 4000.0);
     let mut loads = Vec::new();
     for _ in 0..30 {
@@ -192,22 +185,49 @@ fn chord_steps_reach_the_newton_equilibria_with_fewer_factorisations() {
             f.y.clamp(-2500.0, 2500.0),
             f.z.clamp(2000.0, 7000.0),
         );
-        loads.push(wheel_load(&m, f.x, f.y, f.z));
+        loads.push(wheel_load(m, f.x, f.y, f.z));
     }
-    let run = |chords: bool| {
-        let design = State::design(&m);
-        let mut sv = Solver::new(&p, &design);
-        sv.chords = chords;
-        let (mut buffers, mut st) = (Some(sv), design);
-        let mut out: Vec<Equilibrium> = Vec::new();
-        for l in &loads {
-            let eq = solve_reusing(&p, l, &st, &mut buffers).expect("solves");
-            st = eq.state.clone();
-            out.push(eq);
-        }
-        out
-    };
-    let (newton, chord) = (run(false), run(true));
+    loads
+}
+
+/// The cases of `loads` solved along a path from design by one solver,
+/// set up by `setup`; the solver comes back too. Each case must leave the
+/// solver's workspace with its equilibrium's own Newton matrix (the
+/// isolation check and the next case's steps read it).
+fn solve_walk(
+    p: &Problem,
+    loads: &[Vec<PointLoad>],
+    setup: impl Fn(&mut Solver),
+) -> (Vec<crate::statics::Equilibrium>, Solver) {
+    let design = State::design(&p.model);
+    let mut sv = Solver::new(p, &design);
+    setup(&mut sv);
+    let (mut buffers, mut st) = (Some(sv), design);
+    let mut out = Vec::new();
+    for l in loads {
+        let eq = crate::statics::solve_reusing(p, l, &st, &mut buffers).expect("solves");
+        let mut own = super::super::assembly::Workspace::new(p);
+        own.eval(p, &eq.state, l, true).expect("evaluates");
+        let sv = buffers.as_ref().expect("the solver");
+        assert!(sv.ws.matrix() == own.matrix(), "case {}", out.len());
+        st = eq.state.clone();
+        out.push(eq);
+    }
+    (out, buffers.expect("the solver"))
+}
+
+/// Chord steps (`CHORD_WITHIN`) save factorisations and reach the
+/// equilibria Newton steps reach, up to where each solve may stop (see
+/// `stopping_error`), along the random walk.
+#[test]
+fn chord_steps_reach_the_newton_equilibria_with_fewer_factorisations() {
+    use crate::statics::Equilibrium;
+    use crate::statics::testkit::assert_same_equilibrium;
+    let m = mcpherson();
+    let p = Problem::new(&m).expect("problem");
+    let loads = random_walk(&m);
+    let (newton, _) = solve_walk(&p, &loads, |sv| sv.chords = false);
+    let (chord, _) = solve_walk(&p, &loads, |_| {});
     let sum = |r: &[Equilibrium], f: fn(&Equilibrium) -> usize| r.iter().map(f).sum::<usize>();
     let (fa, fb) = (
         sum(&newton, |e| e.factorizations),
@@ -224,5 +244,35 @@ fn chord_steps_reach_the_newton_equilibria_with_fewer_factorisations() {
     for (k, (a, b)) in newton.iter().zip(&chord).enumerate() {
         assert!(b.iterations <= 2 * b.factorizations + 1, "case {k}");
         assert_same_equilibrium(&p, a, b, k);
+    }
+}
+
+/// Trials evaluated without their Newton matrix (`MATRIX_SKIPPED`) change
+/// nothing but the work: along the random walk, the same iterations,
+/// factorisations, poses and multipliers to the bit as with every matrix
+/// evaluated, whether the matrices are skipped where the band predicts a
+/// chord step or after every fresh step (where the iterate then converges,
+/// takes a chord step or a fresh step, each branch re-evaluating what it
+/// needs). A matrix left stale and factorised, or judged by the isolation
+/// check, would show.
+#[test]
+fn skipped_matrices_change_no_bit_of_the_equilibria() {
+    let m = mcpherson();
+    let p = Problem::new(&m).expect("problem");
+    let loads = random_walk(&m);
+    let (every, _) = solve_walk(&p, &loads, |sv| sv.skip_band = 0.0..0.0);
+    for band in [MATRIX_SKIPPED, f64::NEG_INFINITY..f64::INFINITY] {
+        let (skipping, sv) = solve_walk(&p, &loads, |sv| sv.skip_band = band.clone());
+        assert!(
+            sv.matrices_skipped >= 5,
+            "{band:?}: {} skipped",
+            sv.matrices_skipped
+        );
+        for (k, (a, b)) in every.iter().zip(&skipping).enumerate() {
+            assert_eq!(a.iterations, b.iterations, "{band:?}, case {k}");
+            assert_eq!(a.factorizations, b.factorizations, "{band:?}, case {k}");
+            assert_eq!(a.state.poses, b.state.poses, "{band:?}, case {k}");
+            assert_eq!(a.state.lambda, b.state.lambda, "{band:?}, case {k}");
+        }
     }
 }
