@@ -256,8 +256,8 @@ pub(crate) fn newton(
             if sv.lu.dim() == n + m && sv.lu.solve(&mut sv.x) {
                 let biggest = sv.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
                 sv.correct = sv.extrapolation.apply;
-                let taken =
-                    biggest <= 0.5 * p.length && line_search(p, loads, st, force, homotopy, sv);
+                let taken = biggest <= 0.5 * p.length
+                    && line_search(p, loads, st, force, homotopy, sv, true);
                 sv.correct = false;
                 if taken {
                     if sv.alpha < 1.0 {
@@ -280,7 +280,7 @@ pub(crate) fn newton(
             && ec < CHORD_WITHIN * CONSTRAINT_TOL
             && sv.lu.solve(&mut sv.x)
         {
-            if line_search(p, loads, st, force, homotopy, sv) {
+            if line_search(p, loads, st, force, homotopy, sv, true) {
                 record_step(p, st, sv);
                 stale = false;
                 continue;
@@ -331,7 +331,7 @@ pub(crate) fn newton(
         let next = ef * (ef / before) * (ef / before);
         let lazy = chords && !sv.extrapolation.apply && sv.skip_band.contains(&(next / FORCE_TOL));
         sv.matrices_skipped += usize::from(lazy);
-        if !line_search_with(p, loads, st, force, homotopy, sv, !lazy) {
+        if !line_search(p, loads, st, force, homotopy, sv, !lazy) {
             // A friction element's law has a kink (stick: -kf, slip: 0): a
             // Newton step from one side along the other side's tangent need
             // not lower the merit at any length, and backtracking then stalls
@@ -382,21 +382,10 @@ fn record_step(p: &Problem, st: &State, sv: &mut Solver) {
 }
 
 /// Backtracking from the step `sv.x` until the merit decreases (Armijo); on
-/// success `st` is the new state and `sv.ws` holds its evaluation, otherwise
-/// `st` is unchanged and `sv.ws` holds a rejected trial.
+/// success `st` is the new state and `sv.ws` holds its evaluation (with its
+/// Newton matrix when `tangent`), otherwise `st` is unchanged and `sv.ws`
+/// holds a rejected trial.
 fn line_search(
-    p: &Problem,
-    loads: &[PointLoad],
-    st: &mut State,
-    force: f64,
-    homotopy: &Homotopy,
-    sv: &mut Solver,
-) -> bool {
-    line_search_with(p, loads, st, force, homotopy, sv, true)
-}
-
-/// [`line_search`], evaluating the trials' Newton matrix when `tangent`.
-fn line_search_with(
     p: &Problem,
     loads: &[PointLoad],
     st: &mut State,
