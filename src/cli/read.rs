@@ -57,10 +57,17 @@ fn remember(path: &Path) {
 }
 
 /// The input that is the same file as `target`, if any (by its given path).
+/// Only while its path still leads to that file: an input deleted or
+/// replaced since it was read leaves its device and inode numbers free for
+/// another file (seen in the tests, which share this process: a file read
+/// and deleted by one test, its inode reused by another test's output,
+/// which was refused as that input).
 pub fn input_at(target: &Identity) -> Option<PathBuf> {
     let list = INPUTS.lock().ok()?;
     list.iter()
-        .find(|(_, id)| id.same_file(target))
+        .find(|(p, id)| {
+            id.same_file(target) && Identity::of(p).is_some_and(|now| now.same_file(target))
+        })
         .map(|(p, _)| p.clone())
 }
 
