@@ -2,7 +2,9 @@
 //! their forces, and the conservative elements' forces against their
 //! potential (virtual work).
 
-use super::super::testkit::{Lcg, force_model, random_state};
+use super::super::testkit::{
+    Lcg, assert_tangent_by_central_differences, force_model, perturbed, random_state,
+};
 use super::*;
 use crate::model::{AxisLaw, MarkerId};
 use nalgebra::{DMatrix, DVector};
@@ -29,14 +31,6 @@ fn total(
     (q, k)
 }
 
-fn perturbed(layout: &Layout, state: &State, c: usize, s: f64) -> State {
-    let mut st = state.clone();
-    let mut dq = DVector::zeros(layout.n());
-    dq[c] = s;
-    st.apply(layout, &dq);
-    st
-}
-
 /// The analytic tangent of every force element equals a central difference of
 /// its generalised force, at random poses (both parts moving, and J on ground).
 #[test]
@@ -52,21 +46,13 @@ fn tangent_stiffness_matches_finite_differences() {
                 torque: Vec3::new(1e3, 2e3, -5e2),
             }];
             let (_, k) = total(&model, &layout, &state, &loads);
-            let h = 1e-6;
-            for c in 0..layout.n() {
-                let (qp, _) = total(&model, &layout, &perturbed(&layout, &state, c, h), &loads);
-                let (qm, _) = total(&model, &layout, &perturbed(&layout, &state, c, -h), &loads);
-                let fd = (qp - qm) / (2.0 * h);
-                let scale = 1.0 + k.column(c).amax();
-                for r in 0..layout.n() {
-                    assert!(
-                        (fd[r] - k[(r, c)]).abs() < 1e-6 * scale,
-                        "seed {seed} ({r},{c}): fd {} vs {}",
-                        fd[r],
-                        k[(r, c)]
-                    );
-                }
-            }
+            assert_tangent_by_central_differences(
+                &layout,
+                &state,
+                &k,
+                |st| total(&model, &layout, st, &loads).0,
+                &format!("seed {seed}"),
+            );
         }
     }
 }

@@ -202,7 +202,9 @@ pub fn near_limit(model: &Model, layout: &Layout, state: &State) -> Vec<Friction
 
 #[cfg(test)]
 mod tests {
-    use super::super::testkit::{random_state, twin_part_model};
+    use super::super::testkit::{
+        assert_tangent_by_central_differences, random_state, twin_part_model,
+    };
     use super::*;
     use crate::model::{JointKind, Val};
     use nalgebra::{DMatrix, DVector};
@@ -261,28 +263,13 @@ mod tests {
                     let (_, k, e) = generalized(&m, &layout, &st);
                     assert_eq!(e.state, want, "{motion:?} seed {seed}");
                     assert!(e.force.abs() > 1e-4, "the probe must load the element");
-                    let h = 1e-6;
-                    for c in 0..layout.n() {
-                        let mut dq = DVector::zeros(layout.n());
-                        dq[c] = h;
-                        let mut sp = st.clone();
-                        sp.apply(&layout, &dq);
-                        dq[c] = -h;
-                        let mut sm = st.clone();
-                        sm.apply(&layout, &dq);
-                        let fd = (generalized(&m, &layout, &sp).0
-                            - generalized(&m, &layout, &sm).0)
-                            / (2.0 * h);
-                        let scale = 1.0 + k.column(c).amax();
-                        for r in 0..layout.n() {
-                            assert!(
-                                (fd[r] - k[(r, c)]).abs() < 1e-6 * scale,
-                                "{motion:?} {want:?} seed {seed} ({r},{c}): fd {} vs {}",
-                                fd[r],
-                                k[(r, c)]
-                            );
-                        }
-                    }
+                    assert_tangent_by_central_differences(
+                        &layout,
+                        &st,
+                        &k,
+                        |s| generalized(&m, &layout, s).0,
+                        &format!("{motion:?} {want:?} seed {seed}"),
+                    );
                 }
             }
         }

@@ -154,6 +154,41 @@ pub fn mcpherson() -> Model {
     c.model.expect("the example checks")
 }
 
+/// `state` moved by `s` along coordinate `c` of `layout`.
+pub fn perturbed(layout: &super::coords::Layout, state: &State, c: usize, s: f64) -> State {
+    let mut st = state.clone();
+    let mut dq = nalgebra::DVector::zeros(layout.n());
+    dq[c] = s;
+    st.apply(layout, &dq);
+    st
+}
+
+/// Asserts that `k` is the tangent of the generalised force `q` at `st`:
+/// each column against a central difference (step 1e-6 in the layout's
+/// coordinates) to 1e-6 of one plus the column's largest entry. `context`
+/// opens a failure's message.
+pub fn assert_tangent_by_central_differences(
+    layout: &super::coords::Layout,
+    st: &State,
+    k: &nalgebra::DMatrix<f64>,
+    q: impl Fn(&State) -> nalgebra::DVector<f64>,
+    context: &str,
+) {
+    let h = 1e-6;
+    for c in 0..layout.n() {
+        let fd = (q(&perturbed(layout, st, c, h)) - q(&perturbed(layout, st, c, -h))) / (2.0 * h);
+        let scale = 1.0 + k.column(c).amax();
+        for r in 0..layout.n() {
+            assert!(
+                (fd[r] - k[(r, c)]).abs() < 1e-6 * scale,
+                "{context} ({r},{c}): fd {} vs {}",
+                fd[r],
+                k[(r, c)]
+            );
+        }
+    }
+}
+
 /// Asserts that two solves of the same case reached the same equilibrium,
 /// up to where each may have stopped (`stopping_error`): every part's
 /// reference point within the sum of their distance bounds, its rotation
