@@ -123,38 +123,33 @@ impl Workspace {
         }
         let mut elem = 0.0f64;
         let mut inside = true;
+        // (The wrenches come whole: a joint's unit reactions are summed times
+        // their multipliers before, see `group` below.)
         fn add(
             w: &Wrench,
-            lam: f64,
             r: &mut [f64],
             a: &mut NewtonMatrix,
             tangent: bool,
             scale: &[f64],
             inside: &mut bool,
         ) {
-            w.each_force(|i, v| r[i] += lam * v * scale[i]);
+            w.each_force(|i, v| r[i] += v * scale[i]);
             if tangent {
-                add_tangent(w, lam, a, scale, inside);
+                add_tangent(w, a, scale, inside);
             }
         }
-        fn add_tangent(
-            w: &Wrench,
-            lam: f64,
-            a: &mut NewtonMatrix,
-            scale: &[f64],
-            inside: &mut bool,
-        ) {
+        // A 3×3 block's rows are three translations or three rotations of
+        // one part, and so are its columns: one scale for its rows, one for
+        // its columns, each entry `v * si * sj` as before they were hoisted.
+        fn add_tangent(w: &Wrench, a: &mut NewtonMatrix, scale: &[f64], inside: &mut bool) {
             match a {
-                // Column by column: one bounds check per column of a block
-                // (the products in the order of the entry-wise sum before).
+                // Column by column: one bounds check per column of a block.
                 NewtonMatrix::Dense(a) => w.each_tangent(|ro, co, blk| {
+                    let (si, sj) = (scale[ro], scale[co]);
                     for b in 0..3 {
-                        let sj = scale[co + b];
                         let col = &mut a.col_as_slice_mut(co + b)[ro..ro + 3];
-                        let rows = blk.column(b);
-                        for (x, (v, si)) in col.iter_mut().zip(rows.iter().zip(&scale[ro..ro + 3]))
-                        {
-                            *x += lam * v * si * sj;
+                        for (x, v) in col.iter_mut().zip(blk.column(b).iter()) {
+                            *x += v * si * sj;
                         }
                     }
                 }),
@@ -165,14 +160,10 @@ impl Workspace {
                         *inside = false;
                         return;
                     };
+                    let (si, sj) = (scale[ro], scale[co]);
                     for (b, &at) in slots.iter().enumerate() {
-                        let sj = scale[co + b];
-                        let rows = blk.column(b);
-                        for (x, (v, si)) in vals[at..at + 3]
-                            .iter_mut()
-                            .zip(rows.iter().zip(&scale[ro..ro + 3]))
-                        {
-                            *x += lam * v * si * sj;
+                        for (x, v) in vals[at..at + 3].iter_mut().zip(blk.column(b).iter()) {
+                            *x += v * si * sj;
                         }
                     }
                 }),
@@ -180,7 +171,7 @@ impl Workspace {
         }
         for_each_element(&p.model, &p.layout, st, |_, w| {
             elem = elem.max(w.size(l));
-            add(w, 1.0, r, a, tangent, scale, &mut inside);
+            add(w, r, a, tangent, scale, &mut inside);
         })?;
         *element_scale = elem;
         // Two wrenches written in place (each whole: `Wrench::reset`), not
@@ -196,7 +187,7 @@ impl Workspace {
             let w = &mut *w0;
             if point_load_into(&p.model, &p.layout, st, ld, w) {
                 *load_scale = load_scale.max(w.size(l));
-                add(w, 1.0, r, a, tangent, scale, &mut inside);
+                add(w, r, a, tangent, scale, &mut inside);
             }
         }
         // A joint's equations are consecutive and share its marker frames
@@ -230,17 +221,24 @@ impl Workspace {
             let (_, mi, mj) = &*f;
             let v = evaluate_into(mi, mj, eq.primitive, w);
             // The gradient row with rotation columns times the length, as in
-            // `redundancy::scaled_jacobian` (at most 12 entries), and the
-            // generalised force it scales (computed once for both uses).
-            let mut grad = [(0usize, 0.0f64); 12];
-            let mut raw = [0.0f64; 12];
-            let mut len = 0;
-            w.each_force(|i, g| {
-                grad[len] = (i, g * scale[i]);
-                raw[len] = g;
-                len += 1;
-            });
-            let norm = grad[..len].iter().map(|(_, g)| g * g).sum::<f64>().sqrt();
+            // `redundancy::scaled_jacobian`, and the generalised force it
+            // scales (computed once for both uses), part by part: the six
+            // entries of I's part, then J's (none for the ground). A part's
+            // entries are found by one look-up, not by dividing each
+            // entry's coordinate by six.
+            let force = w.generalized();
+            let offsets = w.offsets();
+            let mut grad = [0.0f64; 12];
+            let mut sq = 0.0f64;
+            for (side, o) in offsets.iter().enumerate() {
+                let Some(o) = *o else { continue };
+                for c in 0..6 {
+                    let g = force[6 * side + c] * scale[o + c];
+                    grad[6 * side + c] = g;
+                    sq += g * g;
+                }
+            }
+            let norm = sq.sqrt();
             let s = if norm > 0.0 {
                 norm
             } else if is_length(eq.primitive) {
@@ -255,42 +253,33 @@ impl Workspace {
             let inv = 1.0 / s;
             phi[idx] = v * inv;
             unit_reaction[idx] = (w.g, w.m);
-            if tangent {
-                match a {
-                    NewtonMatrix::Dense(a) => {
-                        for &(i, g) in &grad[..len] {
-                            a[(n + idx, i)] += g * inv;
-                            a[(i, n + idx)] += g * inv;
+            for (side, o) in offsets.iter().enumerate() {
+                let Some(o) = *o else { continue };
+                let row = &grad[6 * side..6 * side + 6];
+                if tangent {
+                    match a {
+                        NewtonMatrix::Dense(a) => {
+                            for (c, g) in row.iter().enumerate() {
+                                a[(n + idx, o + c)] += g * inv;
+                                a[(o + c, n + idx)] += g * inv;
+                            }
                         }
-                    }
-                    NewtonMatrix::Sparse(pat, vals) => {
-                        // The gradient comes part by part: one look-up each.
-                        let mut block = None;
-                        for &(i, g) in &grad[..len] {
-                            let q = i / 6;
-                            let b = match block {
-                                Some((bq, b)) if bq == q => b,
-                                _ => {
-                                    let b = pat.constraint_block(idx, q);
-                                    block = Some((q, b));
-                                    b
-                                }
-                            };
-                            match b {
-                                Some(b) => {
-                                    let (u, v) = b.slots(i % 6);
+                        NewtonMatrix::Sparse(pat, vals) => match pat.constraint_block(idx, o / 6) {
+                            Some(b) => {
+                                for (c, g) in row.iter().enumerate() {
+                                    let (u, v) = b.slots(c);
                                     vals[u] += g * inv;
                                     vals[v] += g * inv;
                                 }
-                                _ => inside = false,
                             }
-                        }
+                            None => inside = false,
+                        },
                     }
                 }
-            }
-            // `add` of the unit reaction times λ, from the force computed above.
-            for (&(i, _), v) in grad[..len].iter().zip(&raw) {
-                r[i] += lam * v * scale[i];
+                // `add` of the unit reaction times λ, from the force above.
+                for c in 0..6 {
+                    r[o + c] += lam * force[6 * side + c] * scale[o + c];
+                }
             }
             if tangent {
                 let key = (eq.joint, Arms::of(eq.primitive));
@@ -298,7 +287,7 @@ impl Workspace {
                     sum.add_loads(w, lam);
                 } else {
                     if group.is_some() {
-                        add_tangent(sum, 1.0, a, scale, &mut inside);
+                        add_tangent(sum, a, scale, &mut inside);
                     }
                     w.scale_loads(lam);
                     std::mem::swap(&mut w, &mut sum);
@@ -307,7 +296,7 @@ impl Workspace {
             }
         }
         if group.is_some() {
-            add_tangent(sum, 1.0, a, scale, &mut inside);
+            add_tangent(sum, a, scale, &mut inside);
         }
         Ok(inside)
     }
