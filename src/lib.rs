@@ -24,6 +24,10 @@
     clippy::print_stderr
 )]
 
+// pest's derive names `::alloc` when pest is built without `std` (see
+// Cargo.toml and `syntax::depth`).
+extern crate alloc;
+
 pub mod check;
 pub mod cli;
 pub mod data;

@@ -119,4 +119,46 @@ mod tests {
         let vector = format!("({})", vec!["-1"; 10_000].join(", "));
         assert_eq!(depth_error(&vector), None);
     }
+
+    /// pest is built without its per-rule stack probe (Cargo.toml): these
+    /// bounds are what keep its recursion, and the syntax tree's, finite.
+    /// The deepest file they let through (every parenthesis open at once,
+    /// each level holding an operator chain up to the depth bound) parses
+    /// and checks on a thread of 256 KiB of stack, an eighth of a test
+    /// thread's and a thirty-second of the main thread's.
+    #[test]
+    fn the_deepest_file_the_bounds_allow_parses_on_a_small_stack() {
+        // The vector's parenthesis is one level; each level inside adds a
+        // parenthesis and a `*` to its operators.
+        let levels = MAX_PARENS - 1;
+        let per_level = (MAX_DEPTH - 1 - 2 * levels) / (levels + 1);
+        let chain = |k: usize| vec!["1"; k + 1].join(" - ");
+        let mut value = chain(per_level);
+        for _ in 0..levels {
+            value = format!("{} * ({value})", chain(per_level));
+        }
+        let src = format!("ground g {{\n    marker o at ({value}, 0, 0) mm\n}}\n");
+        assert_eq!(check(FileId(0), &src).map_err(|d| d.message), Ok(()));
+        // At the bounds: one more level is refused.
+        let deeper = src
+            .replacen("at (", "at ((", 1)
+            .replacen(", 0, 0)", "), 0, 0)", 1);
+        assert!(check(FileId(0), &deeper).is_err());
+        let parsed = std::thread::Builder::new()
+            .stack_size(256 * 1024)
+            .spawn(move || {
+                let (_, checked) = crate::check::check_str("deep.axle", &src);
+                checked
+                    .problems
+                    .list
+                    .iter()
+                    .map(|d| d.code)
+                    .collect::<Vec<_>>()
+            })
+            .map(|t| t.join());
+        assert!(
+            matches!(parsed, Ok(Ok(ref codes)) if codes.is_empty()),
+            "{parsed:?}"
+        );
+    }
 }
