@@ -765,7 +765,7 @@ fn bushings_tilted_beyond_fifteen_degrees_are_named_and_torsion_is_not() {
     .expect("solve");
     // Reference case c1 of table 5.1: A's az is -18.67° (torsion about its
     // own axis, where projected angles are exact), its tilts within 15°.
-    let w = axle::output::report::angle_warnings(&m.model, &eq.state);
+    let w = axle::output::warning::angle_warnings(&m.model, &eq.state);
     assert!(w.is_empty(), "{w:?}");
     // One bushing, kt 100 N*mm/deg: 3000 N*mm about z twists it 30°, about x
     // tilts it 30°; only the tilt is warned.
@@ -775,9 +775,9 @@ fn bushings_tilted_beyond_fifteen_degrees_are_named_and_torsion_is_not() {
     let problem = Problem::new(&model).expect("problem");
     let set = model.load_set_named("s").expect("set");
     let eqs = statics::path::solve_path(&problem, set).expect("solves");
-    let twist = axle::output::report::angle_warnings(&model, &eqs[0].state);
+    let twist = axle::output::warning::angle_warnings(&model, &eqs[0].state);
     assert!(twist.is_empty(), "{twist:?}");
-    let tilt = axle::output::report::angle_warnings(&model, &eqs[1].state);
+    let tilt = axle::output::warning::angle_warnings(&model, &eqs[1].state);
     assert_eq!(tilt.len(), 1, "{tilt:?}");
     assert_eq!(tilt[0].angle, "ax");
     // Linear in the projected angle: 3000 / 100 = 30°.

@@ -1,7 +1,6 @@
 //! The per-case report of `solve --format json` (`interfaces.md`), and warnings
 //! about bushings driven outside the range of their projected angles.
 
-use super::warning::{BushingReading, angle_warnings_of};
 use crate::geom::Vec3;
 use crate::kc::{WheelQuantities, wheel_quantities_from};
 use crate::model::{ElementId, FrictionId, FrictionMotion, Model, PartId, SpringId};
@@ -396,9 +395,4 @@ pub struct AngleWarning {
     /// "ax" or "ay": the tilts (torsion "az" is exact and never warned).
     pub angle: &'static str,
     pub value_deg: f64,
-}
-
-pub fn angle_warnings(model: &Model, state: &State) -> Vec<AngleWarning> {
-    let readings = BushingReading::all_at(model, &Layout::new(model), state);
-    angle_warnings_of(model, &readings)
 }

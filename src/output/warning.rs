@@ -160,6 +160,12 @@ impl BushingReading {
     }
 }
 
+/// The angle warnings of the model's bushings at `state`.
+pub fn angle_warnings(model: &Model, state: &State) -> Vec<AngleWarning> {
+    let readings = BushingReading::all_at(model, &Layout::new(model), state);
+    angle_warnings_of(model, &readings)
+}
+
 /// The angle warnings of one case, `readings[k]` of the model's bushing `k`.
 pub fn angle_warnings_of(model: &Model, readings: &[BushingReading]) -> Vec<AngleWarning> {
     let mut out = Vec::new();
