@@ -210,11 +210,9 @@ pub(crate) fn newton(
     if st.lambda.len() != m {
         st.lambda = vec![0.0; m];
     }
-    let fatal = Failure::Fatal;
     sv.factored = false;
     if !evaluated {
-        sv.ws.eval(p, st, loads, true).map_err(fatal)?;
-        sv.ws.release(homotopy);
+        evaluate(p, loads, st, homotopy, sv)?;
     }
     // One step per solve may be taken whole when the merit does not fall
     // along it (see below).
@@ -234,8 +232,7 @@ pub(crate) fn newton(
                 // Converged where the matrix was skipped (at a predicted
                 // case's start, or after `MATRIX_SKIPPED`): the caller's
                 // checks need the equilibrium's.
-                sv.ws.eval(p, st, loads, true).map_err(fatal)?;
-                sv.ws.release(homotopy);
+                evaluate(p, loads, st, homotopy, sv)?;
             }
             return Ok(it);
         }
@@ -268,8 +265,7 @@ pub(crate) fn newton(
             }
             sv.extrapolation.abandon();
             // Back to the state this iteration started from, and a Newton step.
-            sv.ws.eval(p, st, loads, true).map_err(fatal)?;
-            sv.ws.release(homotopy);
+            evaluate(p, loads, st, homotopy, sv)?;
         }
         // Near the equilibrium, the factorisation of the last iterate's
         // matrix again (see `CHORD_WITHIN`).
@@ -285,15 +281,13 @@ pub(crate) fn newton(
                 stale = false;
                 continue;
             }
-            // Refused: a fresh Newton step from the same state.
-            sv.ws.eval(p, st, loads, true).map_err(fatal)?;
-            sv.ws.release(homotopy);
-            stale = false;
+            // Refused: a fresh Newton step from the same state, whose
+            // evaluation the workspace no longer holds (a rejected trial).
+            stale = true;
         }
         if std::mem::take(&mut stale) {
             // A fresh step after all: it needs the matrix skipped.
-            sv.ws.eval(p, st, loads, true).map_err(fatal)?;
-            sv.ws.release(homotopy);
+            evaluate(p, loads, st, homotopy, sv)?;
         }
         sv.x.copy_from_slice(&sv.b);
         let mut solved =
@@ -315,7 +309,7 @@ pub(crate) fn newton(
             let slipping = super::friction::near_limit(&p.model, &p.layout, st);
             e.elements
                 .extend(slipping.into_iter().map(ElementId::Friction));
-            return Err(fatal(e));
+            return Err(Failure::Fatal(e));
         }
         if !solved {
             return Err(Failure::Stalled(st.clone()));
@@ -354,14 +348,12 @@ pub(crate) fn newton(
                     std::mem::swap(st, &mut sv.trial);
                     continue;
                 }
-                sv.ws.eval(p, st, loads, true).map_err(fatal)?;
-                sv.ws.release(homotopy);
+                evaluate(p, loads, st, homotopy, sv)?;
             }
             // Rounding floor: no decrease possible, but already nearly converged.
             if ef < 1e3 * FORCE_TOL && ec < 1e3 * CONSTRAINT_TOL {
                 // The workspace holds a rejected trial: evaluate the state kept.
-                sv.ws.eval(p, st, loads, true).map_err(fatal)?;
-                sv.ws.release(homotopy);
+                evaluate(p, loads, st, homotopy, sv)?;
                 return Ok(it);
             }
             return Err(Failure::Stalled(st.clone()));
@@ -371,6 +363,20 @@ pub(crate) fn newton(
         stale = lazy;
     }
     Err(Failure::Stalled(st.clone()))
+}
+
+/// Evaluates `st` into `sv.ws` with its Newton matrix, the homotopy's
+/// residual released (what every fresh step and every converged state needs).
+fn evaluate(
+    p: &Problem,
+    loads: &[PointLoad],
+    st: &State,
+    homotopy: &Homotopy,
+    sv: &mut Solver,
+) -> Result<(), Failure> {
+    sv.ws.eval(p, st, loads, true).map_err(Failure::Fatal)?;
+    sv.ws.release(homotopy);
+    Ok(())
 }
 
 /// Records the step the line search took for the extrapolation: `sv.dq`
