@@ -5,7 +5,8 @@
 
 use super::condition::largest;
 use super::pattern::{ColumnOrder, Pattern};
-use super::pivoting::{ByRows, by_rows};
+use super::pivoting::by_rows;
+use super::products::Products;
 
 /// An entry outside a factorisation's slots ([`Live`]) no larger than this
 /// fraction of the matrix's largest is left out of it: it is taken for the
@@ -44,7 +45,7 @@ pub(crate) struct Live {
     /// row `i`'s at `by_row[row_ptr[i]..row_ptr[i + 1]]` (a product `A x`
     /// as one sum a row, in a register, [`Live::residual`]).
     row_ptr: Vec<usize>,
-    by_row: Vec<(u32, u32)>,
+    by_row: Products,
 }
 
 impl Live {
@@ -86,10 +87,8 @@ impl Live {
     pub fn residual(&self, values: &[f64], x: &[f64], b: &[f64]) -> f64 {
         let mut big = 0.0f64;
         for (i, bi) in b.iter().enumerate() {
-            let mut acc = -bi;
-            for &(j, k) in &self.by_row[self.row_ptr[i]..self.row_ptr[i + 1]] {
-                acc += values[k as usize] * x[j as usize];
-            }
+            let row = self.row_ptr[i]..self.row_ptr[i + 1];
+            let acc = self.by_row.add_to(-bi, row, x, values);
             big = if acc.abs() > big { acc.abs() } else { big };
         }
         big
@@ -136,7 +135,7 @@ impl Live {
 /// entries by rows ([`by_rows`], as the factors'), each then named by its
 /// slot of the full pattern. (The full pattern's slots, and so its
 /// dimension, fit in 32 bits: [`Pattern::new`].)
-fn rows(pattern: &Pattern, from: &[usize]) -> ByRows {
+fn rows(pattern: &Pattern, from: &[usize]) -> (Vec<usize>, Products) {
     let n = pattern.dim();
     let columns = (0..n).map(|j| (j, pattern.col_ptr[j]..pattern.col_ptr[j + 1]));
     // (`None` only past 32 bits, which the pattern excludes.)
@@ -144,5 +143,5 @@ fn rows(pattern: &Pattern, from: &[usize]) -> ByRows {
     for (_, k) in &mut by_row {
         *k = from[*k as usize] as u32;
     }
-    (row_ptr, by_row)
+    (row_ptr, Products::new(by_row))
 }

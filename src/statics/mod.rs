@@ -32,6 +32,7 @@ pub mod path;
 mod pattern;
 mod pivoting;
 mod problem;
+mod products;
 pub mod redundancy;
 mod refactor;
 pub mod sensitivity;

@@ -35,6 +35,7 @@
 //! pattern, not only this one.
 
 use super::pattern::Pattern;
+use super::products::Products;
 
 /// A row may be a pivot when its entry is at least this fraction of the
 /// largest in its column (UMFPACK's default for unsymmetric matrices).
@@ -72,9 +73,9 @@ pub(crate) struct Factors {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Rows {
     pub l_ptr: Vec<usize>,
-    pub l: Vec<(u32, u32)>,
+    pub l: Products,
     pub u_ptr: Vec<usize>,
-    pub u: Vec<(u32, u32)>,
+    pub u: Products,
 }
 
 impl Rows {
@@ -92,7 +93,12 @@ impl Rows {
             (0..n).rev().map(|j| (j, f.u_ptr[j]..f.u_ptr[j + 1] - 1)),
             &f.u_idx,
         )?;
-        Some(Rows { l_ptr, l, u_ptr, u })
+        Some(Rows {
+            l_ptr,
+            l: Products::new(l),
+            u_ptr,
+            u: Products::new(u),
+        })
     }
 }
 

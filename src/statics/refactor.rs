@@ -15,6 +15,7 @@
 
 use super::live::Live;
 use super::pivoting::Factors;
+use super::products::Products;
 
 /// The matrix slot of an entry of the factors that is fill (starts at zero).
 const FILL: u32 = u32::MAX;
@@ -33,7 +34,7 @@ pub(crate) struct Plan {
     /// The products `(entry of L, entry of U)`, entry by entry in the order
     /// the entries are computed: column by column, U's (rows ascending, the
     /// pivot last), then L's.
-    ops: Vec<(u32, u32)>,
+    ops: Products,
 }
 
 impl Plan {
@@ -53,8 +54,9 @@ impl Plan {
             u_end: vec![0; nu],
             l_from: vec![FILL; nl],
             l_end: vec![0; nl],
-            ops: Vec::with_capacity(f.updates()),
+            ops: Products::default(),
         };
+        let mut ops = Vec::with_capacity(f.updates());
         // Per pivot position, its entry in the current column (U's entries
         // first, then L's offset by `nu`); FILL elsewhere.
         let mut at = vec![FILL; n];
@@ -113,10 +115,10 @@ impl Plan {
                 *end = ops.len() as u32;
             };
             for e in us..ue {
-                entry(rank(e as u32), &mut plan.u_end[e], &mut plan.ops);
+                entry(rank(e as u32), &mut plan.u_end[e], &mut ops);
             }
             for e in ls..le {
-                entry(rank((nu + e) as u32), &mut plan.l_end[e], &mut plan.ops);
+                entry(rank((nu + e) as u32), &mut plan.l_end[e], &mut ops);
             }
             for e in us..ue {
                 at[f.u_idx[e]] = FILL;
@@ -125,6 +127,7 @@ impl Plan {
                 at[f.l_idx[e]] = FILL;
             }
         }
+        plan.ops = Products::new(ops);
         Some(plan)
     }
 
@@ -165,15 +168,13 @@ impl Plan {
     /// minus its products `ops[*op..end]`, in order; `*op` moves to `end`.
     #[inline]
     fn entry(&self, from: u32, end: u32, op: &mut usize, f: &Factors, values: &[f64]) -> f64 {
-        let mut acc = if from == FILL {
+        let acc = if from == FILL {
             0.0
         } else {
             values[from as usize]
         };
         let end = end as usize;
-        for &(l, u) in &self.ops[*op..end] {
-            acc -= f.l_val[l as usize] * f.u_val[u as usize];
-        }
+        let acc = self.ops.subtract_from(acc, *op..end, &f.l_val, &f.u_val);
         *op = end;
         acc
     }

@@ -295,18 +295,16 @@ impl SparseLu {
         }
         // Row by row ([`super::pivoting::Rows`]), each row's sum in a register.
         let rows = &f.rows;
+        // (The pairs are `(column, entry)`: the entry's value times y's.)
         for i in 0..n {
-            let mut acc = y[i];
-            for &(j, e) in &rows.l[rows.l_ptr[i]..rows.l_ptr[i + 1]] {
-                acc -= f.l_val[e as usize] * y[j as usize];
-            }
-            y[i] = acc;
+            y[i] = rows
+                .l
+                .subtract_from(y[i], rows.l_ptr[i]..rows.l_ptr[i + 1], y, &f.l_val);
         }
         for i in (0..n).rev() {
-            let mut acc = y[i];
-            for &(j, e) in &rows.u[rows.u_ptr[i]..rows.u_ptr[i + 1]] {
-                acc -= f.u_val[e as usize] * y[j as usize];
-            }
+            let acc = rows
+                .u
+                .subtract_from(y[i], rows.u_ptr[i]..rows.u_ptr[i + 1], y, &f.u_val);
             y[i] = acc * f.u_inv[i];
         }
         for (j, &c) in p.order.iter().enumerate() {
