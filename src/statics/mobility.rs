@@ -12,9 +12,9 @@
 //! rotations were about the origin and scaled by the spread of all markers
 //! ([`PartFrames`]).
 
-use super::Problem;
 use super::coords::{Layout, State, connection_markers, marker_centroid, reference_points_of};
 use super::forces::element_wrenches;
+use super::problem::Equations;
 use super::redundancy::{RedundantEquation, rank_and_null_space, scaled_jacobian};
 use crate::geom::Vec3;
 use crate::model::{Model, PartId};
@@ -212,14 +212,14 @@ impl PartFrames {
     }
 }
 
-/// Mobility of a problem at design: counts, redundancy, unrestrained motions.
-pub fn analyse(p: &Problem) -> Mobility {
+/// Mobility of a model at design, from its compiled equations: counts,
+/// redundancy, unrestrained motions.
+pub(crate) fn analyse(model: &Model, p: &Equations) -> Mobility {
     // In the frame origins' coordinates (recentred by `PartFrames`), not the
     // problem's: where the design carries a preload (a compressed spring, a
     // bushing written twisted) the stiffness there is not a true second
     // derivative, and it depends on the point the rotations are taken about;
     // the verdicts keep the coordinates they were measured in.
-    let model = &p.model;
     let layout = &Layout::new(model);
     let design = State::design(model);
     let all: Vec<usize> = (0..p.equations.len()).collect();

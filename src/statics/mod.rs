@@ -394,5 +394,5 @@ pub fn solve_set(model: &Model, set: LoadSetId) -> Result<Vec<Equilibrium>, Stat
 
 /// Mobility of the model at the design configuration (for the checker).
 pub fn mobility(model: &Model) -> Mobility {
-    mobility::analyse(&Problem::compile(model))
+    mobility::analyse(model, &problem::Equations::of(model))
 }

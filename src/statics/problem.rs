@@ -28,20 +28,24 @@ pub struct Problem {
     pub(crate) pattern: Option<std::sync::Arc<pattern::Pattern>>,
 }
 
-impl Problem {
-    pub fn new(model: &Model) -> Result<Problem, StaticsError> {
-        if model.ground().is_none() {
-            return Err(StaticsError::new(
-                StaticsErrorKind::NoGround,
-                vec![],
-                "the model has no ground part, so nothing holds it in place",
-            ));
-        }
-        Ok(Problem::compile(model))
-    }
+/// A model's constraint equations, which of them are independent at design,
+/// its layout and characteristic length: a [`Problem`] without its copy of
+/// the model and its sparsity pattern, which the mobility analysis
+/// ([`super::mobility::analyse`]) does not need. The checker analyses every
+/// model it checks, the language server on every change: the copy and the
+/// pattern's ordering were a third of that analysis.
+pub(crate) struct Equations {
+    pub layout: Layout,
+    pub equations: Vec<Equation>,
+    pub kept: Vec<usize>,
+    pub redundant: Vec<RedundantEquation>,
+    pub length: f64,
+}
 
-    /// Compiles without requiring a ground (mobility analysis reports the floating motions).
-    pub(super) fn compile(model: &Model) -> Problem {
+impl Equations {
+    /// Compiled without requiring a ground (the mobility analysis reports
+    /// the floating motions).
+    pub fn of(model: &Model) -> Equations {
         let layout = Layout::centred(model);
         let equations = constraint::equations(model);
         let pts: Vec<Vec3> = model.markers.iter().map(|m| m.origin()).collect();
@@ -55,12 +59,43 @@ impl Problem {
         let design = State::design(model);
         let sj = scaled_jacobian(model, &layout, &design, &equations, &all, length);
         let ind = independence(&equations, &sj.jac);
-        let mut p = Problem {
-            model: model.clone(),
+        Equations {
             layout,
             equations,
             kept: ind.kept,
             redundant: ind.redundant,
+            length,
+        }
+    }
+}
+
+impl Problem {
+    pub fn new(model: &Model) -> Result<Problem, StaticsError> {
+        if model.ground().is_none() {
+            return Err(StaticsError::new(
+                StaticsErrorKind::NoGround,
+                vec![],
+                "the model has no ground part, so nothing holds it in place",
+            ));
+        }
+        Ok(Problem::compile(model))
+    }
+
+    /// Compiles without requiring a ground.
+    fn compile(model: &Model) -> Problem {
+        let Equations {
+            layout,
+            equations,
+            kept,
+            redundant,
+            length,
+        } = Equations::of(model);
+        let mut p = Problem {
+            model: model.clone(),
+            layout,
+            equations,
+            kept,
+            redundant,
             length,
             pattern: None,
         };
