@@ -5,7 +5,7 @@ use super::*;
 use crate::geom::Vec3;
 use crate::statics::assembly::col_scale;
 use crate::statics::system::assemble;
-use crate::statics::testkit::mcpherson;
+use crate::statics::testkit::{mcpherson, perturbed};
 use crate::statics::{State, solve};
 
 fn wheel_load(m: &crate::model::Model, fx: f64, fy: f64, fz: f64) -> Vec<PointLoad> {
@@ -148,10 +148,7 @@ fn newton_matrix_equals_a_finite_difference_jacobian() {
     let (mut worst_k, mut worst_j) = (0.0f64, 0.0f64);
     for c in 0..n {
         let at = |s: f64| {
-            let mut t = st.clone();
-            let mut dq = DVector::zeros(n);
-            dq[c] = s * col_scale(c, p.length);
-            t.apply(&p.layout, &dq);
+            let t = perturbed(&p.layout, &st, c, s * col_scale(c, p.length));
             let sy = assemble(&p, &t, &loads).expect("assembles");
             (sy.r, sy.phi)
         };
