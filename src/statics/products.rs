@@ -7,18 +7,18 @@
 //! ([`super::live`]) sum a row's entries times a vector's. Each product
 //! reads two values through a pair of indices taken from a list, and
 //! indexing both checked its bound: two comparisons and branches in a
-//! product of five instructions, a quarter of a McPherson case's
-//! instructions spent in these loops. The pairs are fixed with the factors'
+//! product of five instructions. The pairs are fixed with the factors'
 //! structure, so their bounds are found once, when the list is made, and a
 //! sum checks the two arrays it reads against them once instead of at every
-//! product.
+//! product (6 % of the instructions of a McPherson path,
+//! `docs/performance.md`).
 
 use std::ops::Range;
 
 /// Index pairs `(a, b)` into two arrays, and the least lengths those arrays
 /// need (one more than the largest `a` and the largest `b`). The pairs are
 /// not changed once made, so the bounds stay theirs.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default)]
 pub(crate) struct Products {
     pairs: Vec<(u32, u32)>,
     need: (usize, usize),
