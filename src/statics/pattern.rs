@@ -77,11 +77,11 @@ pub(crate) struct Pattern {
     block_at: Vec<u32>,
     /// Per multiplier, the parts its equation acts on, ascending.
     of_mult: Vec<Vec<usize>>,
-    /// Per multiplier `k` and each of its parts `q` (as in `of_mult`), the
-    /// position of `k` among the multipliers acting on `q` (ascending): the
-    /// row of `k` among the multiplier rows of `q`'s columns, found once
-    /// instead of at every evaluation.
-    mult_pos: Vec<Vec<usize>>,
+    /// Per multiplier `k` and each of its parts `q` (as in `of_mult`), where
+    /// its equation's entries lie ([`Pattern::constraint_block`]), found
+    /// once instead of at every evaluation. Empty in a
+    /// [`Pattern::restricted`] one, which no assembly scatters into.
+    mult_blocks: Vec<Vec<ConstraintBlock>>,
     pub col_ptr: Vec<usize>,
     pub row_idx: Vec<usize>,
     /// Per column, the end of its coordinate rows (they come first, the
@@ -152,13 +152,24 @@ impl Pattern {
             }
             col_ptr.push(row_idx.len());
         }
-        let mult_pos = of_mult
+        // Equation `k`'s row among the multiplier rows of each of its parts'
+        // columns (the multipliers acting on `q`, ascending), after `q`'s
+        // coupled parts' coordinate rows; its column's rows are its parts'.
+        let mult_blocks = of_mult
             .iter()
             .enumerate()
             .map(|(k, on)| {
                 on.iter()
-                    .map(|&q| mults[q].binary_search(&k).ok())
-                    .collect::<Option<Vec<usize>>>()
+                    .enumerate()
+                    .map(|(tp, &q)| {
+                        let first = col_ptr[6 * q];
+                        Some(ConstraintBlock {
+                            row: first + 6 * parts[q].len() + mults[q].binary_search(&k).ok()?,
+                            stride: col_ptr[6 * q + 1] - first,
+                            column: col_ptr[n + k] + 6 * tp,
+                        })
+                    })
+                    .collect::<Option<Vec<_>>>()
             })
             .collect::<Option<Vec<_>>>()?;
         if u32::try_from(row_idx.len()).is_err() {
@@ -180,7 +191,7 @@ impl Pattern {
             parts,
             block_at,
             of_mult,
-            mult_pos,
+            mult_blocks,
             col_ptr,
             row_idx,
             coord_end,
@@ -219,7 +230,7 @@ impl Pattern {
             parts: self.parts.clone(),
             block_at: Vec::new(),
             of_mult: self.of_mult.clone(),
-            mult_pos: self.mult_pos.clone(),
+            mult_blocks: Vec::new(),
             col_ptr,
             row_idx,
             coord_end,
@@ -302,12 +313,7 @@ impl Pattern {
     /// at one offset in each, a column length apart.
     pub fn constraint_block(&self, k: usize, q: usize) -> Option<ConstraintBlock> {
         let tp = self.of_mult.get(k)?.iter().position(|&x| x == q)?;
-        let first = self.col_ptr[6 * q];
-        Some(ConstraintBlock {
-            row: first + 6 * self.parts[q].len() + self.mult_pos[k][tp],
-            stride: self.col_ptr[6 * q + 1] - first,
-            column: self.col_ptr[self.n + k] + 6 * tp,
-        })
+        self.mult_blocks.get(k)?.get(tp).copied()
     }
 }
 
