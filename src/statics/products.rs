@@ -44,38 +44,41 @@ impl Products {
     /// than the pairs need.
     #[inline]
     pub fn subtract_from(&self, acc: f64, range: Range<usize>, x: &[f64], y: &[f64]) -> f64 {
-        let pairs = self.checked(range, x, y);
-        let mut acc = acc;
-        for &(a, b) in pairs {
-            // SAFETY: `checked` asserted `x.len() >= need.0 > a` and
-            // `y.len() >= need.1 > b` for every pair (`new`).
-            acc -= unsafe { x.get_unchecked(a as usize) * y.get_unchecked(b as usize) };
-        }
-        acc
+        self.fold(acc, range, x, y, |acc, p| acc - p)
     }
 
     /// `acc + Σ x[a] y[b]` over the pairs `range`, added in order; panics as
     /// [`Self::subtract_from`].
     #[inline]
     pub fn add_to(&self, acc: f64, range: Range<usize>, x: &[f64], y: &[f64]) -> f64 {
-        let pairs = self.checked(range, x, y);
-        let mut acc = acc;
-        for &(a, b) in pairs {
-            // SAFETY: as in `subtract_from`.
-            acc += unsafe { x.get_unchecked(a as usize) * y.get_unchecked(b as usize) };
-        }
-        acc
+        self.fold(acc, range, x, y, |acc, p| acc + p)
     }
 
-    /// The pairs `range`, once `x` and `y` are known long enough for every
+    /// `acc` and each product `x[a] y[b]` of the pairs `range`, in order,
+    /// combined by `step`, once `x` and `y` are known long enough for every
     /// pair (two comparisons a sum, not two a product).
-    #[inline]
-    fn checked(&self, range: Range<usize>, x: &[f64], y: &[f64]) -> &[(u32, u32)] {
+    #[inline(always)]
+    fn fold(
+        &self,
+        acc: f64,
+        range: Range<usize>,
+        x: &[f64],
+        y: &[f64],
+        step: impl Fn(f64, f64) -> f64,
+    ) -> f64 {
         assert!(
             x.len() >= self.need.0 && y.len() >= self.need.1,
             "an array shorter than its products' indices"
         );
-        &self.pairs[range]
+        let mut acc = acc;
+        for &(a, b) in &self.pairs[range] {
+            // SAFETY: the assertion above: `x.len() >= need.0 > a` and
+            // `y.len() >= need.1 > b` for every pair (`new`).
+            acc = step(acc, unsafe {
+                x.get_unchecked(a as usize) * y.get_unchecked(b as usize)
+            });
+        }
+        acc
     }
 }
 
