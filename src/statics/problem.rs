@@ -32,8 +32,8 @@ pub struct Problem {
 /// its layout and characteristic length: a [`Problem`] without its copy of
 /// the model and its sparsity pattern, which the mobility analysis
 /// ([`super::mobility::analyse`]) does not need. The checker analyses every
-/// model it checks, the language server on every change: the copy and the
-/// pattern's ordering were a third of that analysis.
+/// model a command checks, and the language server's on every save: the
+/// copy and the pattern's ordering were a third of that analysis.
 pub(crate) struct Equations {
     pub layout: Layout,
     pub equations: Vec<Equation>,
