@@ -78,11 +78,6 @@ impl Problem {
                 "the model has no ground part, so nothing holds it in place",
             ));
         }
-        Ok(Problem::compile(model))
-    }
-
-    /// Compiles without requiring a ground.
-    fn compile(model: &Model) -> Problem {
         let Equations {
             layout,
             equations,
@@ -102,7 +97,7 @@ impl Problem {
         if p.layout.n() + p.kept.len() >= tangent::SPARSE_FROM {
             p.pattern = pattern::Pattern::new(&p).map(std::sync::Arc::new);
         }
-        p
+        Ok(p)
     }
 
     pub fn model(&self) -> &Model {
