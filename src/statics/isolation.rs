@@ -17,7 +17,9 @@
 //! understatement, see [`STAND_IN`]) and taken [`STAND_IN_MARGIN`] times
 //! over. Otherwise (or when the last step converged at once: the
 //! multipliers changed from zero, say) `A` is factorised. The condition
-//! estimate costs two inverse iterations, once per factorisation.
+//! estimate costs one inverse iteration continued from the last estimate
+//! (two for a path's first, [`super::condition::Direction`]), once per
+//! factorisation.
 
 use super::Problem;
 use super::newton::Solver;
@@ -148,9 +150,12 @@ mod tests {
         static SKIPPED: RefCell<Vec<(f64, f64)>> = const { RefCell::new(Vec::new()) };
     }
 
-    /// Computes what the rule skipped (it reads the factors only).
+    /// Computes what the rule skipped (it reads the factors only, and
+    /// leaves the solver's estimates where they were: a copy of their
+    /// direction).
     pub(super) fn record_skipped(sv: &mut Solver) {
-        let bound = sv.reciprocal_condition() - sv.lu.distance_to(&sv.ws.a);
+        let rcond = sv.lu.reciprocal_condition_along(&mut sv.direction.clone());
+        let bound = rcond - sv.lu.distance_to(&sv.ws.a);
         let delta = sv.lu.perturbation(&sv.ws.a);
         SKIPPED.with(|s| s.borrow_mut().push((bound, delta)));
     }

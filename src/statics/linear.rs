@@ -20,7 +20,7 @@
 //! is orthogonal to that direction to rounding, which the fixed irregular start
 //! vector below makes practically impossible.
 
-use super::condition::{BlockSizes, DifferenceLanes, Scale, SizeLanes, largest};
+use super::condition::{BlockSizes, DifferenceLanes, Direction, Scale, SizeLanes, largest};
 use faer::Mat;
 use std::cell::Cell;
 
@@ -317,17 +317,25 @@ impl Lu {
         }
     }
 
+    /// [`Self::reciprocal_condition_along`] from the cold start.
+    #[cfg(test)]
+    pub fn reciprocal_condition(&mut self) -> f64 {
+        self.reciprocal_condition_along(&mut Direction::default())
+    }
+
     /// An estimate of `σ_min / σ_max` of the factorised matrix `A` scaled
     /// as `D A D` ([`super::condition`]), from above (it may overstate the
     /// ratio, by a small factor for any matrix met in practice):
-    /// `1 / (‖D A D‖_F · ‖(D A D)⁻¹ y‖)` after two inverse iterations.
-    pub fn reciprocal_condition(&mut self) -> f64 {
+    /// `1 / (‖D A D‖_F · ‖(D A D)⁻¹ y‖)` after two inverse iterations from
+    /// the irregular start, or one from where the last estimate of
+    /// `direction` ended ([`super::condition::Direction`]).
+    pub fn reciprocal_condition_along(&mut self, direction: &mut Direction) -> f64 {
         let n = self.dim();
         if !self.valid || n == 0 {
             return 0.0;
         }
         let s = self.scale();
-        s.reciprocal_condition(n, |y| self.solve(y))
+        s.reciprocal_condition_along(n, direction, |y| self.solve(y))
     }
 }
 

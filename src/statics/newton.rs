@@ -21,6 +21,7 @@
 
 use super::Problem;
 use super::assembly::Workspace;
+use super::condition::Direction;
 use super::coords::State;
 use super::error::StaticsError;
 use super::extrapolation::Extrapolation;
@@ -96,6 +97,10 @@ pub(crate) struct Solver {
     /// The estimate `lu.reciprocal_condition()` of the current
     /// factorisation, once computed.
     rcond: Option<f64>,
+    /// Where the last estimate ended: the next starts there (one solve
+    /// instead of two, [`super::condition::Direction`]). A path forgets it
+    /// at its start, as it does the predictor.
+    pub direction: Direction,
     /// Where the last successful solve with these buffers ended.
     pub ended_at: Option<State>,
     /// Load (sub-)step attempts this solve may still take (a path's budget,
@@ -138,6 +143,7 @@ impl Solver {
             predict: false,
             factorizations: 0,
             rcond: None,
+            direction: Direction::default(),
             ended_at: None,
             attempts_left: None,
             extrapolation: Extrapolation::default(),
@@ -162,11 +168,16 @@ impl Solver {
     }
 
     /// The reciprocal condition estimate of the current factorisation
-    /// (two solves; computed once per factorisation).
+    /// (one solve from where the last ended, two for the first; computed
+    /// once per factorisation).
     pub fn reciprocal_condition(&mut self) -> f64 {
-        *self
-            .rcond
-            .get_or_insert_with(|| self.lu.reciprocal_condition())
+        let Solver {
+            rcond,
+            lu,
+            direction,
+            ..
+        } = self;
+        *rcond.get_or_insert_with(|| lu.reciprocal_condition_along(direction))
     }
 
     /// The estimate of [`Self::reciprocal_condition`], if computed already.

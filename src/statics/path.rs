@@ -201,9 +201,12 @@ impl Simulator {
         mut after: impl FnMut(usize, &mut Solver, &Equilibrium) -> Result<(), ()>,
     ) -> PathRun {
         // The last factorisation belongs to another path (maybe another
-        // problem): no predictor from it.
+        // problem): no predictor from it, and no condition estimate
+        // continued from its estimates (a path's numbers do not depend on
+        // what the simulator ran before).
         if let Some(sv) = &mut self.solver {
             sv.ended_at = None;
+            sv.direction.forget();
         }
         let mut steps: Vec<Equilibrium> = Vec::new();
         let mut used = 0usize;

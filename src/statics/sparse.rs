@@ -21,7 +21,7 @@
 //! residual check run row by row ([`pivoting::Rows`], [`Live::residual`]),
 //! each row's sum in a register.
 
-use super::condition::{DifferenceLanes, Scale, SizeLanes, largest};
+use super::condition::{DifferenceLanes, Direction, Scale, SizeLanes, largest};
 use super::live::Live;
 use super::pattern::Pattern;
 use super::pivoting::{self, Factors};
@@ -377,14 +377,21 @@ impl SparseLu {
         }
     }
 
-    /// An estimate of `σ_min / σ_max` of the matrix scaled as `D A D` (as
-    /// [`super::linear::Lu::reciprocal_condition`]).
+    /// [`Self::reciprocal_condition_along`] from the cold start (two
+    /// inverse iterations).
     pub fn reciprocal_condition(&mut self) -> f64 {
+        self.reciprocal_condition_along(&mut Direction::default())
+    }
+
+    /// An estimate of `σ_min / σ_max` of the matrix scaled as `D A D`, from
+    /// where the last estimate of `direction` ended (as
+    /// [`super::linear::Lu::reciprocal_condition_along`]).
+    pub fn reciprocal_condition_along(&mut self, direction: &mut Direction) -> f64 {
         if !self.valid {
             return 0.0;
         }
         let (n, s) = (self.dim(), self.scale());
-        s.reciprocal_condition(n, |y| self.solve(y))
+        s.reciprocal_condition_along(n, direction, |y| self.solve(y))
     }
 }
 

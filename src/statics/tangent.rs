@@ -4,7 +4,7 @@
 //! [`Pattern`] with the [`SparseLu`] above [`SPARSE_FROM`] unknowns, where
 //! the dense zeroing, copies and `O((n+m)³)` elimination would dominate.
 
-use super::condition::Scale;
+use super::condition::{Direction, Scale};
 use super::linear::Lu;
 use super::live::Live;
 use super::pattern::{ColumnOrder, Pattern};
@@ -310,10 +310,20 @@ impl Factorisation {
         }
     }
 
+    /// The estimate from the cold start (for the tests; a solver
+    /// continues its estimates along a path).
+    #[cfg(test)]
     pub fn reciprocal_condition(&mut self) -> f64 {
+        self.reciprocal_condition_along(&mut Direction::default())
+    }
+
+    /// The estimate of `σ_min / σ_max` of the factorised matrix scaled as
+    /// `D A D`, from where the last estimate of `direction` ended
+    /// ([`super::linear::Lu::reciprocal_condition_along`]).
+    pub fn reciprocal_condition_along(&mut self, direction: &mut Direction) -> f64 {
         match self {
-            Factorisation::Dense(lu) => lu.reciprocal_condition(),
-            Factorisation::Sparse(lu) => lu.reciprocal_condition(),
+            Factorisation::Dense(lu) => lu.reciprocal_condition_along(direction),
+            Factorisation::Sparse(lu) => lu.reciprocal_condition_along(direction),
         }
     }
 }
