@@ -301,15 +301,16 @@ pub(crate) fn newton(
             evaluate(p, loads, st, homotopy, sv)?;
         }
         sv.x.copy_from_slice(&sv.b);
-        let mut solved =
-            sv.factor_matrix() && sv.lu.solve(&mut sv.x) && sv.lu.satisfies(&sv.ws.a, &sv.x, &sv.b);
+        let mut solved = sv.factor_matrix()
+            && sv.lu.solve(&mut sv.x)
+            && sv.lu.solution_holds(&sv.ws.a, &sv.x, &sv.b);
         sv.factored = true;
         // Pivots reused from an earlier matrix passed their threshold but gave
         // a solution the residual check refused: pivot afresh before taking
         // the matrix for singular.
         if !solved && let Some(ok) = sv.factor_afresh() {
             sv.x.copy_from_slice(&sv.b);
-            solved = ok && sv.lu.solve(&mut sv.x) && sv.lu.satisfies(&sv.ws.a, &sv.x, &sv.b);
+            solved = ok && sv.lu.solve(&mut sv.x) && sv.lu.solution_holds(&sv.ws.a, &sv.x, &sv.b);
         }
         let biggest = sv.x[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if (!solved || biggest > 1e3 * p.length)

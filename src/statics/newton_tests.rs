@@ -5,16 +5,8 @@ use super::*;
 use crate::geom::Vec3;
 use crate::statics::assembly::col_scale;
 use crate::statics::system::assemble;
-use crate::statics::testkit::{mcpherson, perturbed};
+use crate::statics::testkit::{mcpherson, perturbed, random_walk, wheel_load};
 use crate::statics::{State, solve};
-
-fn wheel_load(m: &crate::model::Model, fx: f64, fy: f64, fz: f64) -> Vec<PointLoad> {
-    vec![PointLoad {
-        marker: m.wheels[0].contact,
-        force: Vec3::new(fx, fy, fz),
-        torque: Vec3::zeros(),
-    }]
-}
 
 /// A case that starts at its own equilibrium converges at the start,
 /// where its first evaluation skipped the Newton matrix (a prediction was
@@ -166,25 +158,6 @@ fn newton_matrix_equals_a_finite_difference_jacobian() {
     }
     eprintln!("Newton matrix vs central differences: K {worst_k:.1e}, J {worst_j:.1e}");
     assert!(worst_k < 1e-7 && worst_j < 1e-7, "{worst_k} {worst_j}");
-}
-
-/// 30 McPherson cases of a random walk of the wheel load (`Lcg(12)`):
-/// steps of up to 1 500 N, `fx`, `fy` within ±2 500 N, `fz` 2 000-7 000 N.
-fn random_walk(m: &crate::model::Model) -> Vec<Vec<PointLoad>> {
-    let mut rng = crate::statics::testkit::Lcg::new(12);
-    let mut f = Vec3::new(0.0, 0.0, 4000.0);
-    let mut loads = Vec::new();
-    for _ in 0..30 {
-        let step = rng.vec(1.0);
-        f += step * (1500.0 / step.norm().max(1.0)) * (0.6 + 0.4 * rng.next());
-        f = Vec3::new(
-            f.x.clamp(-2500.0, 2500.0),
-            f.y.clamp(-2500.0, 2500.0),
-            f.z.clamp(2000.0, 7000.0),
-        );
-        loads.push(wheel_load(m, f.x, f.y, f.z));
-    }
-    loads
 }
 
 /// The cases of `loads` solved along a path from design by one solver,

@@ -76,6 +76,10 @@ pub(crate) struct Rows {
     pub l: Products,
     pub u_ptr: Vec<usize>,
     pub u: Products,
+    /// The most entries a row of L and a row of U hold here (their
+    /// diagonals not counted), for the factors' growth bound
+    /// ([`super::sparse::SparseLu::solution_holds`]).
+    pub longest: [usize; 2],
 }
 
 impl Rows {
@@ -93,7 +97,9 @@ impl Rows {
             (0..n).rev().map(|j| (j, f.u_ptr[j]..f.u_ptr[j + 1] - 1)),
             &f.u_idx,
         )?;
+        let longest = |ptr: &[usize]| ptr.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(0);
         Some(Rows {
+            longest: [longest(&l_ptr), longest(&u_ptr)],
             l_ptr,
             l: Products::new(l),
             u_ptr,

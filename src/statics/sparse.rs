@@ -40,6 +40,11 @@ use std::sync::Arc;
 /// fresh one costs about six refactorisations.
 const PIVOT_THRESHOLD: f64 = 0.0001;
 
+/// The residual a solution may leave, of the sizes involved (`‖b‖ + ‖A‖
+/// ‖x‖`, largest entries), for [`SparseLu::satisfies`] (as
+/// [`super::linear::Lu::satisfies`]).
+const SOLVED_WITHIN: f64 = 1e-8;
+
 /// A pivot sequence and the factors' structure to start refactorising from
 /// (kept in the [`Pattern`], so that every solver of the problem starts
 /// from the same one: a fresh factorisation costs 10-30 refactorisations).
@@ -325,7 +330,7 @@ impl SparseLu {
         let x_max = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let b_max = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let r = self.live.residual(values, x, b);
-        r <= 1e-8 * (b_max + self.a_max * x_max)
+        r <= SOLVED_WITHIN * (b_max + self.a_max * x_max)
     }
 
     /// The scaling of [`super::condition`] for the matrix last factorised.
@@ -343,6 +348,50 @@ impl SparseLu {
         let s = sizes.sizes().scale(c);
         self.scale.set(Some(s));
         s
+    }
+
+    /// Whether `x`, which [`Self::solve`] gave for `b` with the matrix
+    /// last factorised (`values`), passes the residual check of
+    /// [`Self::satisfies`]: without computing the residual where the
+    /// factors' growth bounds it below the check's tolerance, otherwise by
+    /// computing it. (Of another `x`, the bound says nothing.)
+    ///
+    /// Solving with factors `L̂ Û` computed in floating point gives the
+    /// exact solution of `(A + ΔA) x = b` with `|ΔA| ≤ γ₃ₙ |L̂| |Û|`
+    /// (Higham, *Accuracy and Stability of Numerical Algorithms*, 2nd ed.,
+    /// theorem 9.4, for any order of the sums), so `‖A x - b‖∞ ≤ γ₃ₙ
+    /// ‖|L̂|‖∞ ‖|Û|‖∞ ‖x‖∞`. Each norm is at most its factor's longest row,
+    /// with the diagonal, times its largest entry; γ is taken as `5 n u`
+    /// (the multipliers and the back substitution multiply by the pivots'
+    /// reciprocals: a rounding more each). The reused pivots pass only
+    /// [`PIVOT_THRESHOLD`] of their column, so their growth is bounded by
+    /// far less than the check needs; what they gave is checked when the
+    /// bound does not hold.
+    pub fn solution_holds(&mut self, values: &[f64], x: &[f64], b: &[f64]) -> bool {
+        let n = self.dim();
+        if !self.valid || values.len() != self.a.len() || x.len() != n || b.len() != n {
+            return false;
+        }
+        let (x_max, b_max) = (largest(x), largest(b));
+        if self.residual_bound() * x_max <= SOLVED_WITHIN * (b_max + self.a_max * x_max) {
+            return true;
+        }
+        self.satisfies(values, x, b)
+    }
+
+    /// `γ ‖|L̂|‖∞ ‖|Û|‖∞` of [`Self::solution_holds`] (bounded through each
+    /// factor's longest row): a solution `x` leaves a residual of at most
+    /// this times `‖x‖∞`.
+    fn residual_bound(&self) -> f64 {
+        let f = &self.own;
+        let n = self.dim() as f64;
+        let [long_l, long_u] = f.rows.longest;
+        // (L's stored diagonal is 1: its largest entry is at least 1.)
+        let l_norm = (1 + long_l) as f64 * largest(&f.l_val);
+        let u_norm = (1 + long_u) as f64 * largest(&f.u_val);
+        let u = f64::EPSILON / 2.0;
+        let gamma = 5.0 * n * u / (1.0 - 5.0 * n * u);
+        gamma * l_norm * u_norm
     }
 
     /// `‖D (B - A) D‖_F / ‖D A D‖_F` for the matrix `A` last factorised and

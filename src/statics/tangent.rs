@@ -235,11 +235,14 @@ impl Factorisation {
         }
     }
 
-    /// Whether `x` solves `a x = b` (`a` the matrix last factorised).
-    pub fn satisfies(&mut self, a: &NewtonMatrix, x: &[f64], b: &[f64]) -> bool {
+    /// Whether `x`, this factorisation's solution of `a x = b` (`a` the
+    /// matrix last factorised), passes the residual check: computed on the
+    /// dense path, on the sparse one only where the factors' growth does
+    /// not bound it ([`SparseLu::solution_holds`]).
+    pub fn solution_holds(&mut self, a: &NewtonMatrix, x: &[f64], b: &[f64]) -> bool {
         match (self, a) {
             (Factorisation::Dense(lu), NewtonMatrix::Dense(m)) => lu.satisfies(m, x, b),
-            (Factorisation::Sparse(lu), NewtonMatrix::Sparse(_, v)) => lu.satisfies(v, x, b),
+            (Factorisation::Sparse(lu), NewtonMatrix::Sparse(_, v)) => lu.solution_holds(v, x, b),
             _ => false,
         }
     }

@@ -333,3 +333,31 @@ pub(crate) fn kkt_values(pat: &Pattern, n: usize, rng: &mut Lcg, zero_below: f64
     }
     v
 }
+
+/// A load at the McPherson's wheel contact point.
+pub fn wheel_load(m: &Model, fx: f64, fy: f64, fz: f64) -> Vec<PointLoad> {
+    vec![PointLoad {
+        marker: m.wheels[0].contact,
+        force: Vec3::new(fx, fy, fz),
+        torque: Vec3::zeros(),
+    }]
+}
+
+/// 30 McPherson cases of a random walk of the wheel load (`Lcg(12)`):
+/// steps of up to 1 500 N, `fx`, `fy` within ±2 500 N, `fz` 2 000-7 000 N.
+pub fn random_walk(m: &Model) -> Vec<Vec<PointLoad>> {
+    let mut rng = Lcg::new(12);
+    let mut f = Vec3::new(0.0, 0.0, 4000.0);
+    let mut loads = Vec::new();
+    for _ in 0..30 {
+        let step = rng.vec(1.0);
+        f += step * (1500.0 / step.norm().max(1.0)) * (0.6 + 0.4 * rng.next());
+        f = Vec3::new(
+            f.x.clamp(-2500.0, 2500.0),
+            f.y.clamp(-2500.0, 2500.0),
+            f.z.clamp(2000.0, 7000.0),
+        );
+        loads.push(wheel_load(m, f.x, f.y, f.z));
+    }
+    loads
+}
