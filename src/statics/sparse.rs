@@ -363,10 +363,10 @@ impl SparseLu {
     /// ‖|L̂|‖∞ ‖|Û|‖∞ ‖x‖∞`. Each norm is at most its factor's longest row,
     /// with the diagonal, times its largest entry; γ is taken as `5 n u`
     /// (the multipliers and the back substitution multiply by the pivots'
-    /// reciprocals: a rounding more each). The reused pivots pass only
-    /// [`PIVOT_THRESHOLD`] of their column, so their growth is bounded by
-    /// far less than the check needs; what they gave is checked when the
-    /// bound does not hold.
+    /// reciprocals: a rounding more each). Reused pivots need pass only
+    /// [`PIVOT_THRESHOLD`] of their column, a bound on the growth far too
+    /// loose for the check: the growth itself is measured, and where it is
+    /// too large the residual is computed.
     pub fn solution_holds(&mut self, values: &[f64], x: &[f64], b: &[f64]) -> bool {
         let n = self.dim();
         if !self.valid || values.len() != self.a.len() || x.len() != n || b.len() != n {
