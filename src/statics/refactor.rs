@@ -49,13 +49,8 @@ impl Plan {
         if f.u_ptr.len() != n + 1 || f.l_ptr.len() != n + 1 || big >= FILL as usize {
             return None;
         }
-        let mut plan = Plan {
-            u_from: vec![FILL; nu],
-            u_end: vec![0; nu],
-            l_from: vec![FILL; nl],
-            l_end: vec![0; nl],
-            ops: Products::default(),
-        };
+        let (mut u_from, mut u_end) = (vec![FILL; nu], vec![0; nu]);
+        let (mut l_from, mut l_end) = (vec![FILL; nl], vec![0; nl]);
         let mut ops = Vec::with_capacity(f.updates());
         // Per pivot position, its entry in the current column (U's entries
         // first, then L's offset by `nu`); FILL elsewhere.
@@ -87,9 +82,9 @@ impl Plan {
                 }
                 let (e, slot) = (e as usize, k as u32);
                 if e < nu {
-                    plan.u_from[e] = slot;
+                    u_from[e] = slot;
                 } else {
-                    plan.l_from[e - nu] = slot;
+                    l_from[e - nu] = slot;
                 }
             }
             // The left-looking order: U's entries of the column ascending,
@@ -115,10 +110,10 @@ impl Plan {
                 *end = ops.len() as u32;
             };
             for e in us..ue {
-                entry(rank(e as u32), &mut plan.u_end[e], &mut ops);
+                entry(rank(e as u32), &mut u_end[e], &mut ops);
             }
             for e in ls..le {
-                entry(rank((nu + e) as u32), &mut plan.l_end[e], &mut ops);
+                entry(rank((nu + e) as u32), &mut l_end[e], &mut ops);
             }
             for e in us..ue {
                 at[f.u_idx[e]] = FILL;
@@ -127,8 +122,13 @@ impl Plan {
                 at[f.l_idx[e]] = FILL;
             }
         }
-        plan.ops = Products::new(ops);
-        Some(plan)
+        Some(Plan {
+            u_from,
+            u_end,
+            l_from,
+            l_end,
+            ops: Products::new(ops),
+        })
     }
 
     /// Refactorises the matrix of `values` (in the live slots) into `f`; false if a pivot is zero, not finite, or under `threshold`
