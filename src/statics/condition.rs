@@ -503,6 +503,25 @@ mod tests {
         }
     }
 
+    /// The problem of two coupled McPherson corners and the Newton
+    /// matrices at its equilibria along table 5-1, in order.
+    fn corner_matrices() -> (crate::statics::Problem, Vec<DMatrix<f64>>) {
+        use crate::statics::Problem;
+        use crate::statics::path::{set_loads, solve_path};
+        use crate::statics::system::{assemble, kkt};
+        use crate::statics::testkit::coupled_corners;
+        let (m, set) = coupled_corners(2);
+        let p = Problem::new(&m).expect("problem");
+        let loads = set_loads(&m, set).expect("loads");
+        let eqs = solve_path(&p, set).expect("solves");
+        let matrices = eqs
+            .iter()
+            .zip(&loads)
+            .map(|(eq, l)| kkt(&assemble(&p, &eq.state, l).expect("assembles")))
+            .collect();
+        (p, matrices)
+    }
+
     /// At the equilibria of a mechanism (two coupled McPherson corners,
     /// table 5-1), weighing the multipliers raises the ratio
     /// `σ_min / ‖D A D‖_F` of the SVD more than tenfold, and the estimate
@@ -510,23 +529,15 @@ mod tests {
     /// above: the estimate a threshold is set on is that of the matrix.
     #[test]
     fn on_a_mechanism_the_weighed_estimate_is_close_and_far_from_singular() {
-        use crate::statics::Problem;
         use crate::statics::linear::Lu;
-        use crate::statics::path::{set_loads, solve_path};
-        use crate::statics::system::assemble;
-        use crate::statics::system::kkt;
         use crate::statics::tangent::{Factorisation, NewtonMatrix};
-        use crate::statics::testkit::coupled_corners;
-        let (m, set) = coupled_corners(2);
-        let p = Problem::new(&m).expect("problem");
+        let (p, matrices) = corner_matrices();
         let n = p.layout.n();
-        let loads = set_loads(&m, set).expect("loads");
-        let eqs = solve_path(&p, set).expect("solves");
-        for k in [0, eqs.len() - 1] {
-            let a = kkt(&assemble(&p, &eqs[k].state, &loads[k]).expect("assembles"));
+        for k in [0, matrices.len() - 1] {
+            let a = &matrices[k];
             let dim = a.nrows();
             let raw = a.singular_values().min() / a.norm();
-            let s = scaled(&a, n);
+            let s = scaled(a, n);
             let ratio = s.singular_values().min() / s.norm();
             assert!(
                 ratio > 10.0 * raw,
@@ -560,20 +571,12 @@ mod tests {
     /// SVD's ratio, from above, as the cold estimates do.
     #[test]
     fn a_continued_estimate_takes_one_solve_and_is_as_close() {
-        use crate::statics::Problem;
         use crate::statics::linear::Lu;
-        use crate::statics::path::{set_loads, solve_path};
-        use crate::statics::system::{assemble, kkt};
-        use crate::statics::testkit::coupled_corners;
-        let (m, set) = coupled_corners(2);
-        let p = Problem::new(&m).expect("problem");
+        let (p, matrices) = corner_matrices();
         let n = p.layout.n();
-        let loads = set_loads(&m, set).expect("loads");
-        let eqs = solve_path(&p, set).expect("solves");
         let mut direction = Direction::default();
-        for (k, eq) in eqs.iter().enumerate() {
-            let a = kkt(&assemble(&p, &eq.state, &loads[k]).expect("assembles"));
-            let s = scaled(&a, n);
+        for (k, a) in matrices.iter().enumerate() {
+            let s = scaled(a, n);
             let ratio = s.singular_values().min() / s.norm();
             let dim = a.nrows();
             let mut lu = Lu::new(dim, n);
