@@ -24,6 +24,11 @@ use super::condition::{BlockSizes, DifferenceLanes, Direction, Scale, SizeLanes,
 use faer::Mat;
 use std::cell::Cell;
 
+/// The residual a solution may leave, of the sizes involved (`‖b‖ + ‖A‖
+/// ‖x‖`, largest entries): the residual check of both factorisations
+/// ([`Lu::satisfies`], [`super::sparse::SparseLu::satisfies`]).
+pub(crate) const SOLVED_WITHIN: f64 = 1e-8;
+
 /// One independent block of a block-diagonal matrix ([`super::blocks`]):
 /// its indices, its own dense factorisation, and buffers to gather into.
 struct Block {
@@ -197,8 +202,8 @@ impl Lu {
         eliminate(lu, piv, col);
     }
 
-    /// Whether `x` solves `A x = b` to a residual of `1e-8` of the sizes
-    /// involved, `a` being the matrix last factorised.
+    /// Whether `x` solves `A x = b` to a residual of [`SOLVED_WITHIN`] of
+    /// the sizes involved, `a` being the matrix last factorised.
     pub fn satisfies(&mut self, a: &Mat<f64>, x: &[f64], b: &[f64]) -> bool {
         let x_max = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let b_max = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -218,7 +223,7 @@ impl Lu {
                 }
                 r = res.iter().fold(r, |m, v| m.max(v.abs()));
             }
-            return r <= 1e-8 * (b_max + self.a_max * x_max);
+            return r <= SOLVED_WITHIN * (b_max + self.a_max * x_max);
         }
         let res = &mut self.res;
         res.iter_mut().zip(b).for_each(|(r, v)| *r = -v);
@@ -228,7 +233,7 @@ impl Lu {
             }
         }
         let r = res.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        r <= 1e-8 * (b_max + self.a_max * x_max)
+        r <= SOLVED_WITHIN * (b_max + self.a_max * x_max)
     }
 
     /// The unknowns that are coordinates (the first).

@@ -22,6 +22,7 @@
 //! each row's sum in a register.
 
 use super::condition::{DifferenceLanes, Direction, Scale, SizeLanes, largest};
+use super::linear::SOLVED_WITHIN;
 use super::live::Live;
 use super::pattern::Pattern;
 use super::pivoting::{self, Factors};
@@ -39,11 +40,6 @@ use std::sync::Arc;
 /// factorisations needed fresh ones with 0.001 and none with 0.0001, and each
 /// fresh one costs about six refactorisations.
 const PIVOT_THRESHOLD: f64 = 0.0001;
-
-/// The residual a solution may leave, of the sizes involved (`‖b‖ + ‖A‖
-/// ‖x‖`, largest entries), for [`SparseLu::satisfies`] (as
-/// [`super::linear::Lu::satisfies`]).
-const SOLVED_WITHIN: f64 = 1e-8;
 
 /// A pivot sequence and the factors' structure to start refactorising from
 /// (kept in the [`Pattern`], so that every solver of the problem starts
