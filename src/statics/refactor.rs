@@ -109,11 +109,11 @@ impl Plan {
                 }
                 *end = ops.len() as u32;
             };
-            for e in us..ue {
-                entry(rank(e as u32), &mut u_end[e], &mut ops);
+            for (e, end) in (us..ue).zip(&mut u_end[us..ue]) {
+                entry(rank(e as u32), end, &mut ops);
             }
-            for e in ls..le {
-                entry(rank((nu + e) as u32), &mut l_end[e], &mut ops);
+            for (e, end) in (ls..le).zip(&mut l_end[ls..le]) {
+                entry(rank((nu + e) as u32), end, &mut ops);
             }
             for e in us..ue {
                 at[f.u_idx[e]] = FILL;
