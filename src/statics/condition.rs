@@ -125,6 +125,12 @@ impl Direction {
     pub fn forget(&mut self) {
         self.last.clear();
     }
+
+    /// Whether the next estimate starts cold.
+    #[cfg(test)]
+    pub fn is_cold(&self) -> bool {
+        self.last.is_empty()
+    }
 }
 
 /// [`inverse_iteration`] continued from where the last estimate of

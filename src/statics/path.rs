@@ -337,3 +337,29 @@ fn on_set_loads(
         },
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::statics::testkit::{mcpherson, random_walk};
+
+    /// A path starts without the condition direction the simulator's last
+    /// path ended on, as it starts without its predictor: a path's numbers
+    /// do not depend on what the simulator ran before.
+    #[test]
+    fn a_path_starts_without_the_last_paths_condition_direction() {
+        let m = mcpherson();
+        let p = Problem::new(&m).expect("problem");
+        let design = State::design(&m);
+        let loads = random_walk(&m);
+        let mut sim = Simulator::new();
+        let run = sim.run(&p, &loads[..3], &design, &[]);
+        assert!(run.failure.is_none());
+        let sv = sim.solver.as_ref().expect("a solver");
+        assert!(!sv.direction.is_cold() && sv.ended_at.is_some());
+        let run = sim.run(&p, Vec::<Vec<PointLoad>>::new(), &design, &[]);
+        assert!(run.steps.is_empty() && run.failure.is_none());
+        let sv = sim.solver.as_ref().expect("a solver");
+        assert!(sv.direction.is_cold() && sv.ended_at.is_none());
+    }
+}
