@@ -26,7 +26,7 @@ use std::cell::Cell;
 
 /// The residual a solution may leave, of the sizes involved (`‖b‖ + ‖A‖
 /// ‖x‖`, largest entries): the residual check of both factorisations
-/// ([`Lu::satisfies`], [`super::sparse::SparseLu::satisfies`]).
+/// ([`Lu::satisfies`], [`super::sparse::SparseLu::solution_holds`]).
 pub(crate) const SOLVED_WITHIN: f64 = 1e-8;
 
 /// One independent block of a block-diagonal matrix ([`super::blocks`]):
