@@ -401,6 +401,48 @@ impl DifferenceLanes {
     }
 }
 
+/// [`SizeLanes`] of one matrix and [`DifferenceLanes`] of it and another,
+/// in one pass: the isolation check ([`super::isolation`]) needs both of
+/// the factorised matrix, its scaling and its distance to the
+/// equilibrium's, and two passes over the pattern cost a third more than
+/// one. Each lane takes the same steps in the same order as in the two
+/// passes, so the sums are theirs to the bit.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct SizeDifferenceLanes {
+    pub sizes: SizeLanes,
+    pub difference: DifferenceLanes,
+}
+
+impl SizeDifferenceLanes {
+    /// Adds a column (a coordinate's or not) of both matrices, sizes of
+    /// the first, as their coordinate rows `top` and multiplier rows `bottom`.
+    pub fn add_column(&mut self, col_coord: bool, top: (&[f64], &[f64]), bottom: (&[f64], &[f64])) {
+        self.take(block(col_coord, true), top.0, top.1);
+        self.take(block(col_coord, false), bottom.0, bottom.1);
+    }
+
+    fn take(&mut self, b: usize, x: &[f64], y: &[f64]) {
+        let (mx, sq) = (&mut self.sizes.max[b], &mut self.sizes.sq[b]);
+        let d = &mut self.difference.sq[b];
+        let (xs, ys) = (x.chunks_exact(LANES), y.chunks_exact(LANES));
+        let (xr, yr) = (xs.remainder(), ys.remainder());
+        for (a, c) in xs.zip(ys) {
+            for k in 0..LANES {
+                let v = a[k].abs();
+                mx[k] = if v > mx[k] { v } else { mx[k] };
+                sq[k] += v * v;
+                d[k] += (a[k] - c[k]) * (a[k] - c[k]);
+            }
+        }
+        for (k, (a, c)) in xr.iter().zip(yr).enumerate() {
+            let v = a.abs();
+            mx[k] = if v > mx[k] { v } else { mx[k] };
+            sq[k] += v * v;
+            d[k] += (a - c) * (a - c);
+        }
+    }
+}
+
 /// The sizes of a dense Newton matrix with `coords` coordinates.
 pub(crate) fn dense_sizes(a: &DMatrix<f64>, coords: usize) -> BlockSizes {
     let mut s = SizeLanes::default();

@@ -77,6 +77,12 @@ fn lanes_give_the_running_maximum_and_sum() {
         d.add_column(true, (&[], &[]), (a, &y[..a.len()]));
         d.add_column(false, (b, &y[a.len()..]), (&[], &[]));
         assert!((d.total(&scale) - 9.0 * diff).abs() <= 1e-12 * diff.max(1.0));
+        // In one pass, both to the bit.
+        let mut both = SizeDifferenceLanes::default();
+        both.add_column(true, (&[], &[]), (a, &y[..a.len()]));
+        both.add_column(false, (b, &y[a.len()..]), (&[], &[]));
+        assert_eq!(both.sizes.sizes(), two.sizes(), "n = {n}");
+        assert_eq!(both.difference.total(&scale).to_bits(), d.total(&scale).to_bits());
         if n > 3 {
             // (the largest, 7.5, is at index 0)
             x[3] = f64::NAN;

@@ -21,7 +21,9 @@
 //! residual check run row by row ([`pivoting::Rows`], [`Live::residual`]),
 //! each row's sum in a register.
 
-use super::condition::{DifferenceLanes, Direction, Scale, SizeLanes, largest};
+use super::condition::{
+    DifferenceLanes, Direction, Scale, SizeDifferenceLanes, SizeLanes, largest,
+};
 use super::linear::SOLVED_WITHIN;
 use super::live::Live;
 use super::pattern::Pattern;
@@ -341,17 +343,20 @@ impl SparseLu {
         r <= SOLVED_WITHIN * (b_max + self.a_max * x_max)
     }
 
-    /// The scaling of [`super::condition`] for the matrix last factorised.
+    /// The scaling of [`super::condition`] for the matrix last factorised
+    /// (found with [`Self::distance_to`] when that comes first, as in the
+    /// isolation check).
     pub fn scale(&self) -> Scale {
         if let Some(s) = self.scale.get() {
             return s;
         }
-        // On the live slots: the others of `a` are zero.
-        let (p, c) = (&self.live.pattern, self.pattern.coords());
+        // Over the pattern's slots, as `distance_to` finds it, to the bit
+        // (the dead slots of `a` are zero).
+        let (p, c) = (&*self.pattern, self.pattern.coords());
         let mut sizes = SizeLanes::default();
         for j in 0..p.dim() {
             let (top, bottom) = p.column_halves(j);
-            sizes.add_column(j < c, &self.live_a[top], &self.live_a[bottom]);
+            sizes.add_column(j < c, &self.a[top], &self.a[bottom]);
         }
         let s = sizes.sizes().scale(c);
         self.scale.set(Some(s));
@@ -404,20 +409,38 @@ impl SparseLu {
 
     /// `‖D (B - A) D‖_F / ‖D A D‖_F` for the matrix `A` last factorised and
     /// its scaling `D` (as [`super::linear::Lu::distance_to`]).
+    ///
+    /// Without the scaling at hand, it is found in the same pass.
     pub fn distance_to(&self, values: &[f64]) -> f64 {
         if !self.valid || values.len() != self.a.len() {
             return f64::INFINITY;
         }
-        let (p, s) = (&*self.pattern, self.scale());
-        let mut d = DifferenceLanes::default();
-        for j in 0..p.dim() {
+        let (p, c) = (&*self.pattern, self.pattern.coords());
+        let halves = |j| {
             let (top, bottom) = p.column_halves(j);
-            d.add_column(
-                j < s.coords,
-                (&self.a[top.clone()], &values[top]),
-                (&self.a[bottom.clone()], &values[bottom]),
-            );
-        }
+            let a = (&self.a[top.clone()], &values[top]);
+            (a, (&self.a[bottom.clone()], &values[bottom]))
+        };
+        let (d, s) = match self.scale.get() {
+            Some(s) => {
+                let mut d = DifferenceLanes::default();
+                for j in 0..p.dim() {
+                    let (top, bottom) = halves(j);
+                    d.add_column(j < c, top, bottom);
+                }
+                (d, s)
+            }
+            None => {
+                let mut both = SizeDifferenceLanes::default();
+                for j in 0..p.dim() {
+                    let (top, bottom) = halves(j);
+                    both.add_column(j < c, top, bottom);
+                }
+                let s = both.sizes.sizes().scale(c);
+                self.scale.set(Some(s));
+                (both.difference, s)
+            }
+        };
         d.total(&s).sqrt() / s.fro
     }
 

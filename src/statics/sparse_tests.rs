@@ -123,6 +123,24 @@ fn sparse_lu_solves_kkt_matrices_as_the_dense_lu() {
 /// `STAND_IN_MARGIN` it takes, below 1; and at least 1 (so `finish`
 /// factorises `B`) for a singular `B`, a column of `A` zeroed
 /// (`E = -e_j e_jᵀ` exactly), whatever the column.
+/// The isolation check's distance finds the factorised matrix's scaling
+/// in its own pass when it is not known yet: the same scaling, and the
+/// same distance, to the bit, as with the scaling found first.
+#[test]
+fn the_scaling_found_with_the_distance_is_the_scaling() {
+    let (p, pat) = pattern(1);
+    let v = values(&pat, p.layout.n(), 7);
+    let mut moved = v.clone();
+    moved.iter_mut().step_by(5).for_each(|x| *x *= 1.001);
+    let (mut first, mut with) = (SparseLu::new(pat.clone()), SparseLu::new(pat.clone()));
+    assert!(first.factor(&v) && with.factor(&v));
+    let s = first.scale();
+    let d = first.distance_to(&moved);
+    assert!(d > 0.0 && d.is_finite());
+    assert_eq!(with.distance_to(&moved).to_bits(), d.to_bits());
+    assert_eq!(with.scale(), s);
+}
+
 #[test]
 fn perturbation_estimates_the_distance_to_a_factorised_matrix() {
     use crate::statics::isolation::{STAND_IN, STAND_IN_MARGIN};
