@@ -66,7 +66,7 @@ impl Layout {
 /// last brought into equilibrium with (the start of the next load sub-step),
 /// and the history of path-dependent elements (friction slip offsets),
 /// committed after every converged step by [`super::friction::commit`].
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, PartialEq, Default)]
 pub struct State {
     /// Origin and rotation of each part frame (indexed like `Model::parts`), global.
     pub(crate) poses: Vec<(Vec3, Mat3)>,
@@ -78,6 +78,27 @@ pub struct State {
     /// `Model::frictions`; mm for a slide, rad for a rotation): the history a
     /// trial state is evaluated against, changed only when a step is accepted.
     pub(crate) slip: Vec<f64>,
+}
+
+impl Clone for State {
+    fn clone(&self) -> State {
+        State {
+            poses: self.poses.clone(),
+            loads: self.loads.clone(),
+            lambda: self.lambda.clone(),
+            slip: self.slip.clone(),
+        }
+    }
+
+    /// Field by field, into this state's allocations (the solver's trial
+    /// states and the path's last end are copied once a line-search trial
+    /// or a case, not made anew).
+    fn clone_from(&mut self, from: &State) {
+        self.poses.clone_from(&from.poses);
+        self.loads.clone_from(&from.loads);
+        self.lambda.clone_from(&from.lambda);
+        self.slip.clone_from(&from.slip);
+    }
 }
 
 impl State {

@@ -244,7 +244,7 @@ pub(crate) fn solve_reusing(
         _ => sv.ws.eval(problem, &state, loads, !sv.predict)?,
     }
     let force = force_scale(problem, loads, start, sv.ws.element_scale);
-    let from = start.loads.clone();
+    let from = &start.loads;
     // The start's own residual, needed only once a sub-step is taken.
     let mut start_residual: Option<(Vec<f64>, Vec<f64>)> = None;
     let mut evaluated = true;
@@ -273,12 +273,13 @@ pub(crate) fn solve_reusing(
             phi0,
             remaining: 1.0 - target,
         };
-        let mut trial = state.clone();
+        let mut trial = std::mem::take(&mut sv.spare);
+        trial.clone_from(&state);
         match newton(problem, &l, &mut trial, force, &h, sv, evaluated) {
             Ok(it) => {
                 iterations += it;
                 steps += 1;
-                state = trial;
+                std::mem::swap(&mut state, &mut trial);
                 state.loads = l;
                 // An accepted (sub-)step: its friction slip becomes history.
                 friction::commit(model, &problem.layout, &mut state);
@@ -296,6 +297,7 @@ pub(crate) fn solve_reusing(
                 }
             }
         }
+        sv.spare = trial;
         evaluated = false;
     }
     if steps != 1 {
@@ -303,7 +305,10 @@ pub(crate) fn solve_reusing(
     }
     sv.extrapolation.end();
     let eq = finish(problem, state, iterations, steps.saturating_sub(1), sv)?;
-    sv.ended_at = Some(eq.state.clone());
+    // (Into the last end's allocations.)
+    let mut end = ended_at.unwrap_or_else(|| std::mem::take(&mut sv.spare));
+    end.clone_from(&eq.state);
+    sv.ended_at = Some(end);
     Ok(eq)
 }
 
@@ -353,7 +358,7 @@ fn finish(
             }
         }
     }
-    let mut reactions: Vec<Reaction> = Vec::new();
+    let mut reactions: Vec<Reaction> = Vec::with_capacity(p.model.joints.len());
     // `sv.ws` was evaluated at `state`: its unit reactions are the wrenches'.
     for (idx, &e) in p.kept.iter().enumerate() {
         let eq = &p.equations[e];

@@ -103,6 +103,9 @@ pub(crate) struct Solver {
     pub direction: Direction,
     /// Where the last successful solve with these buffers ended.
     pub ended_at: Option<State>,
+    /// A state's allocations kept for the next (a sub-step's trial, the
+    /// next end).
+    pub spare: State,
     /// Load (sub-)step attempts this solve may still take (a path's budget,
     /// [`super::path::Simulator::with_budget`]); `None`: unlimited.
     pub attempts_left: Option<usize>,
@@ -145,6 +148,7 @@ impl Solver {
             rcond: None,
             direction: Direction::default(),
             ended_at: None,
+            spare: State::default(),
             attempts_left: None,
             extrapolation: Extrapolation::default(),
             chords: true,
@@ -193,14 +197,6 @@ impl Solver {
         self.rcond = None;
         Some(ok)
     }
-}
-
-/// Copies `from` into `to` reusing `to`'s allocations.
-fn copy_state(to: &mut State, from: &State) {
-    to.poses.clone_from(&from.poses);
-    to.loads.clone_from(&from.loads);
-    to.lambda.clone_from(&from.lambda);
-    to.slip.clone_from(&from.slip);
 }
 
 /// Newton from `st` to equilibrium under `loads`; returns the iterations used.
@@ -347,7 +343,7 @@ pub(crate) fn newton(
             if kink_step && !super::friction::near_limit(&p.model, &p.layout, st).is_empty() {
                 kink_step = false;
                 sv.extrapolation.abandon();
-                copy_state(&mut sv.trial, st);
+                sv.trial.clone_from(st);
                 for i in 0..n {
                     sv.dq[i] = sv.x[i] * sv.ws.scale[i];
                 }
@@ -416,7 +412,7 @@ fn line_search(
     let m0 = sv.ws.merit(p, force);
     let mut alpha = 1.0;
     for _ in 0..12 {
-        copy_state(&mut sv.trial, st);
+        sv.trial.clone_from(st);
         for i in 0..n {
             sv.dq[i] = alpha * sv.x[i] * sv.ws.scale[i];
         }
