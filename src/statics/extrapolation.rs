@@ -98,6 +98,13 @@ impl Extrapolation {
         let step = load_step(from, to);
         let same = step.as_ref().is_some_and(|s| same_step(s, &self.step));
         if !(predicted && same) {
+            // The sum's allocations from the last entry dropped (`end`
+            // moved the last sum into the history).
+            if let Some(last) = self.history.pop()
+                && self.sum.body.capacity() == 0
+            {
+                self.sum = last;
+            }
             self.history.clear();
         }
         self.apply = self.enabled && !self.history.is_empty();
