@@ -401,12 +401,29 @@ impl DifferenceLanes {
     }
 }
 
+/// Slots of a matrix's value array (a sparse matrix's), with the least
+/// length an array needs for all of them: checked once a pass, not once
+/// an entry (as [`super::products::Products`] does its pairs).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Slots {
+    at: Vec<u32>,
+    need: usize,
+}
+
+impl Slots {
+    pub fn new(at: Vec<u32>) -> Slots {
+        let need = at.iter().map(|&k| k as usize + 1).max().unwrap_or(0);
+        Slots { at, need }
+    }
+}
+
 /// [`SizeLanes`] of one matrix and [`DifferenceLanes`] of it and another,
-/// in one pass: the isolation check ([`super::isolation`]) needs both of
-/// the factorised matrix, its scaling and its distance to the
-/// equilibrium's, and two passes over the pattern cost a third more than
-/// one. Each lane takes the same steps in the same order as in the two
-/// passes, so the sums are theirs to the bit.
+/// in one flat pass a block over its slots ([`Slots`]): the isolation
+/// check ([`super::isolation`]) needs both of the factorised matrix, its
+/// scaling and its distance to the equilibrium's. Passes column half by
+/// column half (3 to 9 entries each on the McPherson) cost a hundred
+/// instructions a half, most of them the half's own; here a block is one
+/// run of lanes.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct SizeDifferenceLanes {
     pub sizes: SizeLanes,
@@ -414,31 +431,32 @@ pub(crate) struct SizeDifferenceLanes {
 }
 
 impl SizeDifferenceLanes {
-    /// Adds a column (a coordinate's or not) of both matrices, sizes of
-    /// the first, as their coordinate rows `top` and multiplier rows `bottom`.
-    pub fn add_column(&mut self, col_coord: bool, top: (&[f64], &[f64]), bottom: (&[f64], &[f64])) {
-        self.take(block(col_coord, true), top.0, top.1);
-        self.take(block(col_coord, false), bottom.0, bottom.1);
-    }
-
-    fn take(&mut self, b: usize, x: &[f64], y: &[f64]) {
+    /// Adds the entries at `slots` of `x` (sizes) and of `x - y`
+    /// (difference) to block `b` (0 for `K`, 1 for `C` and `Cᵀ`, 2 for
+    /// `Z`). Panics if `x` or `y` is shorter than the slots need.
+    pub fn take(&mut self, b: usize, slots: &Slots, x: &[f64], y: &[f64]) {
+        assert!(
+            x.len() >= slots.need && y.len() >= slots.need,
+            "a matrix shorter than its slots"
+        );
         let (mx, sq) = (&mut self.sizes.max[b], &mut self.sizes.sq[b]);
         let d = &mut self.difference.sq[b];
-        let (xs, ys) = (x.chunks_exact(LANES), y.chunks_exact(LANES));
-        let (xr, yr) = (xs.remainder(), ys.remainder());
-        for (a, c) in xs.zip(ys) {
-            for k in 0..LANES {
-                let v = a[k].abs();
-                mx[k] = if v > mx[k] { v } else { mx[k] };
-                sq[k] += v * v;
-                d[k] += (a[k] - c[k]) * (a[k] - c[k]);
-            }
-        }
-        for (k, (a, c)) in xr.iter().zip(yr).enumerate() {
+        let mut add = |k: usize, i: u32| {
+            // SAFETY: the assertion above: `i < slots.need <= x.len(), y.len()`.
+            let (a, c) = unsafe { (*x.get_unchecked(i as usize), *y.get_unchecked(i as usize)) };
             let v = a.abs();
             mx[k] = if v > mx[k] { v } else { mx[k] };
             sq[k] += v * v;
             d[k] += (a - c) * (a - c);
+        };
+        let mut chunks = slots.at.chunks_exact(LANES);
+        for c in &mut chunks {
+            for k in 0..LANES {
+                add(k, c[k]);
+            }
+        }
+        for (k, &i) in chunks.remainder().iter().enumerate() {
+            add(k, i);
         }
     }
 }

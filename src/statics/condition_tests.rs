@@ -77,12 +77,28 @@ fn lanes_give_the_running_maximum_and_sum() {
         d.add_column(true, (&[], &[]), (a, &y[..a.len()]));
         d.add_column(false, (b, &y[a.len()..]), (&[], &[]));
         assert!((d.total(&scale) - 9.0 * diff).abs() <= 1e-12 * diff.max(1.0));
-        // In one pass, both to the bit.
+        // Both in one pass over slots spread through a longer array: the
+        // lanes of a run of those entries, to the bit.
+        let slots = Slots::new((0..n as u32).map(|k| 3 * k + 1).collect());
+        let spread = |v: &[f64]| {
+            let mut w = vec![f64::NAN; 3 * n + 2];
+            v.iter().enumerate().for_each(|(k, x)| w[3 * k + 1] = *x);
+            w
+        };
         let mut both = SizeDifferenceLanes::default();
-        both.add_column(true, (&[], &[]), (a, &y[..a.len()]));
-        both.add_column(false, (b, &y[a.len()..]), (&[], &[]));
-        assert_eq!(both.sizes.sizes(), two.sizes(), "n = {n}");
-        assert_eq!(both.difference.total(&scale).to_bits(), d.total(&scale).to_bits());
+        both.take(1, &slots, &spread(&x), &spread(&y));
+        let mut run = SizeLanes::default();
+        run.add_column(false, &x, &[]);
+        let mut drun = DifferenceLanes::default();
+        drun.add_column(false, (&x, &y), (&[], &[]));
+        assert_eq!(both.sizes.sizes(), run.sizes(), "n = {n}");
+        assert_eq!(both.difference.total(&scale).to_bits(), drun.total(&scale).to_bits());
+        if n > 0 {
+            let short = std::panic::catch_unwind(|| {
+                SizeDifferenceLanes::default().take(0, &slots, &x, &spread(&y))
+            });
+            assert!(short.is_err(), "n = {n}: an array shorter than its slots");
+        }
         if n > 3 {
             // (the largest, 7.5, is at index 0)
             x[3] = f64::NAN;

@@ -14,6 +14,7 @@
 //! coupled parts.
 
 use super::Problem;
+use super::condition::{SizeDifferenceLanes, Slots};
 use super::constraint::evaluate;
 use super::coords::State;
 use super::forces::for_each_element;
@@ -87,6 +88,9 @@ pub(crate) struct Pattern {
     /// Per column, the end of its coordinate rows (they come first, the
     /// multipliers' after; a multiplier's column has only coordinate rows).
     pub coord_end: Vec<usize>,
+    /// The slots of the blocks `K`, `C` and `Cᵀ`, `Z` of `[K Cᵀ; C Z]`
+    /// (the condition estimates' weights, [`super::condition`]).
+    kkt_blocks: [Slots; 3],
     /// A fill-reducing column order (AMD, or the one a factorisation chose,
     /// [`Pattern::set_order`]) and its inverse, for the sparse LU.
     pub order: Vec<usize>,
@@ -175,6 +179,7 @@ impl Pattern {
         if u32::try_from(row_idx.len()).is_err() {
             return None;
         }
+        let kkt_blocks = kkt_blocks(n, &col_ptr, &coord_end);
         let (order, order_inv) = column_order(n + m, &col_ptr, &row_idx)?;
         let mut block_at = Vec::new();
         if np <= BLOCK_TABLE_PARTS {
@@ -195,6 +200,7 @@ impl Pattern {
             col_ptr,
             row_idx,
             coord_end,
+            kkt_blocks,
             order,
             order_inv,
             pivots: std::sync::OnceLock::new(),
@@ -231,6 +237,7 @@ impl Pattern {
             block_at: Vec::new(),
             of_mult: self.of_mult.clone(),
             mult_blocks: Vec::new(),
+            kkt_blocks: kkt_blocks(self.n, &col_ptr, &coord_end),
             col_ptr,
             row_idx,
             coord_end,
@@ -259,6 +266,16 @@ impl Pattern {
 
     pub fn nnz(&self) -> usize {
         self.row_idx.len()
+    }
+
+    /// The sizes of the matrix of `x` (in this pattern's slots), block by
+    /// block, and the differences of `x - y`, in one pass a block.
+    pub fn sizes_and_difference(&self, x: &[f64], y: &[f64]) -> SizeDifferenceLanes {
+        let mut lanes = SizeDifferenceLanes::default();
+        for (b, slots) in self.kkt_blocks.iter().enumerate() {
+            lanes.take(b, slots, x, y);
+        }
+        lanes
     }
 
     /// The slot of entry `(row, col)` for a coordinate `row`: the first of the
@@ -315,6 +332,22 @@ impl Pattern {
         let tp = self.of_mult.get(k)?.iter().position(|&x| x == q)?;
         self.mult_blocks.get(k)?.get(tp).copied()
     }
+}
+
+/// The slots of `[K Cᵀ; C Z]`'s blocks, in [`SizeDifferenceLanes::take`]'s
+/// order (`K`, `C` and `Cᵀ`, `Z`): the coordinate columns' coordinate rows
+/// are `K`'s, their multiplier rows `C`'s; the multipliers' columns'
+/// coordinate rows are `Cᵀ`'s, their multiplier rows `Z`'s (none in a
+/// Newton matrix).
+fn kkt_blocks(n: usize, col_ptr: &[usize], coord_end: &[usize]) -> [Slots; 3] {
+    let mut at: [Vec<u32>; 3] = Default::default();
+    for (j, (w, &mid)) in col_ptr.windows(2).zip(coord_end).enumerate() {
+        let (top, bottom) = if j < n { (0, 1) } else { (1, 2) };
+        // (The pattern's slots fit in 32 bits: `Pattern::new`.)
+        at[top].extend((w[0]..mid).map(|k| k as u32));
+        at[bottom].extend((mid..w[1]).map(|k| k as u32));
+    }
+    at.map(Slots::new)
 }
 
 /// AMD's order of the (symmetric) pattern, computed once. Measured against

@@ -21,9 +21,7 @@
 //! residual check run row by row ([`pivoting::Rows`], [`Live::residual`]),
 //! each row's sum in a register.
 
-use super::condition::{
-    DifferenceLanes, Direction, Scale, SizeDifferenceLanes, SizeLanes, largest,
-};
+use super::condition::{Direction, Scale, largest};
 use super::linear::SOLVED_WITHIN;
 use super::live::Live;
 use super::pattern::Pattern;
@@ -352,13 +350,8 @@ impl SparseLu {
         }
         // Over the pattern's slots, as `distance_to` finds it, to the bit
         // (the dead slots of `a` are zero).
-        let (p, c) = (&*self.pattern, self.pattern.coords());
-        let mut sizes = SizeLanes::default();
-        for j in 0..p.dim() {
-            let (top, bottom) = p.column_halves(j);
-            sizes.add_column(j < c, &self.a[top], &self.a[bottom]);
-        }
-        let s = sizes.sizes().scale(c);
+        let lanes = self.pattern.sizes_and_difference(&self.a, &self.a);
+        let s = lanes.sizes.sizes().scale(self.pattern.coords());
         self.scale.set(Some(s));
         s
     }
@@ -408,40 +401,16 @@ impl SparseLu {
     }
 
     /// `‖D (B - A) D‖_F / ‖D A D‖_F` for the matrix `A` last factorised and
-    /// its scaling `D` (as [`super::linear::Lu::distance_to`]).
-    ///
-    /// Without the scaling at hand, it is found in the same pass.
+    /// its scaling `D` (as [`super::linear::Lu::distance_to`]), which is
+    /// found in the same pass (the same as [`Self::scale`]'s, to the bit).
     pub fn distance_to(&self, values: &[f64]) -> f64 {
         if !self.valid || values.len() != self.a.len() {
             return f64::INFINITY;
         }
-        let (p, c) = (&*self.pattern, self.pattern.coords());
-        let halves = |j| {
-            let (top, bottom) = p.column_halves(j);
-            let a = (&self.a[top.clone()], &values[top]);
-            (a, (&self.a[bottom.clone()], &values[bottom]))
-        };
-        let (d, s) = match self.scale.get() {
-            Some(s) => {
-                let mut d = DifferenceLanes::default();
-                for j in 0..p.dim() {
-                    let (top, bottom) = halves(j);
-                    d.add_column(j < c, top, bottom);
-                }
-                (d, s)
-            }
-            None => {
-                let mut both = SizeDifferenceLanes::default();
-                for j in 0..p.dim() {
-                    let (top, bottom) = halves(j);
-                    both.add_column(j < c, top, bottom);
-                }
-                let s = both.sizes.sizes().scale(c);
-                self.scale.set(Some(s));
-                (both.difference, s)
-            }
-        };
-        d.total(&s).sqrt() / s.fro
+        let lanes = self.pattern.sizes_and_difference(&self.a, values);
+        let s = lanes.sizes.sizes().scale(self.pattern.coords());
+        self.scale.set(Some(s));
+        lanes.difference.total(&s).sqrt() / s.fro
     }
 
     /// Adds `(B - A) y` to `out`, `A` the matrix last factorised and `B` the
