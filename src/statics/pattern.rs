@@ -58,7 +58,7 @@ pub(crate) fn inverse(p: &[usize]) -> Vec<usize> {
 /// A pair of parts not coupled, in [`Pattern`]'s `block_at`.
 const NOT_COUPLED: u32 = u32::MAX;
 
-/// The most parts for which [`Pattern`] tabulates every pair (4 MB of
+/// The most parts for which [`Pattern`] tabulates every pair (8 MB of
 /// table; a whole vehicle has tens of parts).
 const BLOCK_TABLE_PARTS: usize = 1024;
 
@@ -69,13 +69,15 @@ pub(crate) struct Pattern {
     m: usize,
     /// Per part, the parts coupled to it (itself included), ascending.
     parts: Vec<Vec<usize>>,
-    /// Per pair of parts `(c, r)` at `c * parts + r`, the position of `r`
-    /// in `parts[c]` ([`NOT_COUPLED`] if absent): the search of
-    /// [`Pattern::block_slots`] done once, a load instead of a binary
-    /// search per 3×3 block scattered. Empty beyond [`BLOCK_TABLE_PARTS`]
-    /// parts and in a [`Pattern::restricted`] one, where the search is
-    /// kept.
-    block_at: Vec<u32>,
+    /// Per pair of parts `(c, r)` at `c * parts + r`: the slot of `r`'s
+    /// first row in `c`'s first column ([`NOT_COUPLED`] if absent) and the
+    /// length of `c`'s columns (the six hold the same rows, so a row's
+    /// slots in them are a length apart). [`Pattern::block_slots`]'s
+    /// search done once: one load instead of a binary search and three
+    /// columns' starts per 3×3 block scattered. Empty beyond
+    /// [`BLOCK_TABLE_PARTS`] parts and in a [`Pattern::restricted`] one,
+    /// where the search is kept.
+    block_at: Vec<(u32, u32)>,
     /// Per multiplier, the parts its equation acts on, ascending.
     of_mult: Vec<Vec<usize>>,
     /// Per multiplier `k` and each of its parts `q` (as in `of_mult`), where
@@ -183,10 +185,12 @@ impl Pattern {
         let (order, order_inv) = column_order(n + m, &col_ptr, &row_idx)?;
         let mut block_at = Vec::new();
         if np <= BLOCK_TABLE_PARTS {
-            block_at = vec![NOT_COUPLED; np * np];
+            block_at = vec![(NOT_COUPLED, 0); np * np];
             for (c, list) in parts.iter().enumerate() {
+                // (The slots fit in 32 bits, checked above.)
+                let (first, len) = (col_ptr[6 * c], col_ptr[6 * c + 1] - col_ptr[6 * c]);
                 for (t, &r) in list.iter().enumerate() {
-                    block_at[c * np + r] = t as u32;
+                    block_at[c * np + r] = ((first + 6 * t) as u32, len as u32);
                 }
             }
         }
@@ -296,24 +300,26 @@ impl Pattern {
     #[inline]
     pub fn block_slots(&self, row: usize, col: usize) -> Option<[usize; 3]> {
         let (c, r) = (col / 6, row / 6);
-        let list = self.parts.get(c)?;
         if col % 6 > 3 {
             return None;
         }
-        let t = if self.block_at.is_empty() {
-            list.binary_search(&r).ok()?
-        } else {
-            let np = self.parts.len();
-            if r >= np {
-                return None;
+        let np = self.parts.len();
+        if self.block_at.is_empty() {
+            let t = self.parts.get(c)?.binary_search(&r).ok()?;
+            let off = 6 * t + row % 6;
+            return Some([0, 1, 2].map(|b| self.col_ptr[col + b] + off));
+        }
+        if c >= np || r >= np {
+            return None;
+        }
+        match self.block_at[c * np + r] {
+            (NOT_COUPLED, _) => None,
+            (first, len) => {
+                let len = len as usize;
+                let at = first as usize + (col % 6) * len + row % 6;
+                Some([at, at + len, at + 2 * len])
             }
-            match self.block_at[c * np + r] {
-                NOT_COUPLED => return None,
-                t => t as usize,
-            }
-        };
-        let off = 6 * t + row % 6;
-        Some([0, 1, 2].map(|b| self.col_ptr[col + b] + off))
+        }
     }
 
     /// The slots of the two entries of multiplier `k`'s equation at
