@@ -449,10 +449,11 @@ impl SizeDifferenceLanes {
             sq[k] += v * v;
             d[k] += (a - c) * (a - c);
         };
+        // Lane `k` takes every `LANES`-th slot from the `k`-th.
         let mut chunks = slots.at.chunks_exact(LANES);
         for c in &mut chunks {
-            for k in 0..LANES {
-                add(k, c[k]);
+            for (k, &i) in c.iter().enumerate() {
+                add(k, i);
             }
         }
         for (k, &i) in chunks.remainder().iter().enumerate() {

@@ -257,11 +257,11 @@ pub(crate) fn solve_reusing(
             *left -= 1;
         }
         let target = if s + ds >= 1.0 - 1e-12 { 1.0 } else { s + ds };
-        let l = interpolate(&from, loads, target);
+        let l = interpolate(from, loads, target);
         let (r0, phi0) = if target < 1.0 {
             if start_residual.is_none() {
                 let mut w0 = assembly::Workspace::new(problem);
-                w0.eval(problem, start, &from, false)?;
+                w0.eval(problem, start, from, false)?;
                 start_residual = Some((w0.r, w0.phi));
             }
             start_residual.clone().unwrap_or_default()
