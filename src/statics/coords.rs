@@ -94,10 +94,22 @@ impl Clone for State {
     /// states and the path's last end are copied once a line-search trial
     /// or a case, not made anew).
     fn clone_from(&mut self, from: &State) {
-        self.poses.clone_from(&from.poses);
-        self.loads.clone_from(&from.loads);
-        self.lambda.clone_from(&from.lambda);
-        self.slip.clone_from(&from.slip);
+        copy_into(&mut self.poses, &from.poses);
+        copy_into(&mut self.loads, &from.loads);
+        copy_into(&mut self.lambda, &from.lambda);
+        copy_into(&mut self.slip, &from.slip);
+    }
+}
+
+/// `to = from` in `to`'s allocation: one copy of the bytes where the
+/// lengths agree (`Vec::clone_from` copied a pose at a time, through the
+/// stack: 1.7 % of a McPherson case).
+fn copy_into<T: Copy>(to: &mut Vec<T>, from: &[T]) {
+    if to.len() == from.len() {
+        to.copy_from_slice(from);
+    } else {
+        to.clear();
+        to.extend_from_slice(from);
     }
 }
 
