@@ -265,7 +265,8 @@ fn keep_orthonormal(r: Mat3) -> Mat3 {
     ]
     .iter()
     .fold(0.0f64, |m, d| m.max(d.abs()));
-    // (A drift that is not a number is restored, or fails there.)
+    // (`max` passes over a NaN: a rotation that is not a number stays
+    // one, as under Gram-Schmidt, and the line search refuses the trial.)
     if drift <= ORTHONORMAL_WITHIN {
         r
     } else {

@@ -303,12 +303,12 @@ impl Pattern {
         if col % 6 > 3 {
             return None;
         }
-        let np = self.parts.len();
         if self.block_at.is_empty() {
             let t = self.parts.get(c)?.binary_search(&r).ok()?;
             let off = 6 * t + row % 6;
             return Some([0, 1, 2].map(|b| self.col_ptr[col + b] + off));
         }
+        let np = self.parts.len();
         if c >= np || r >= np {
             return None;
         }
