@@ -18,6 +18,8 @@ use super::condition::{SizeDifferenceLanes, Slots};
 use super::constraint::evaluate;
 use super::coords::State;
 use super::forces::for_each_element;
+use super::pivoting::by_rows;
+use super::products::Products;
 use faer::sparse::SymbolicSparseColMatRef;
 use std::ops::Range;
 
@@ -97,6 +99,10 @@ pub(crate) struct Pattern {
     /// [`Pattern::set_order`]) and its inverse, for the sparse LU.
     pub order: Vec<usize>,
     pub order_inv: Vec<usize>,
+    /// Every slot row by row (`(column, slot)`, each row's at
+    /// `rows.1[rows.0[i]..rows.0[i + 1]]`), made when first asked for
+    /// ([`Pattern::rows`]).
+    rows: std::sync::OnceLock<(Vec<usize>, Products)>,
     /// The pivots every sparse LU of the problem starts from (those of the
     /// matrix at design, [`super::tangent::seed_pivots`], set by the first
     /// solver; None: the design matrix could not be factorised).
@@ -207,6 +213,7 @@ impl Pattern {
             kkt_blocks,
             order,
             order_inv,
+            rows: std::sync::OnceLock::new(),
             pivots: std::sync::OnceLock::new(),
         })
     }
@@ -247,6 +254,7 @@ impl Pattern {
             coord_end,
             order,
             order_inv,
+            rows: std::sync::OnceLock::new(),
             pivots: std::sync::OnceLock::new(),
         })
     }
@@ -270,6 +278,19 @@ impl Pattern {
 
     pub fn nnz(&self) -> usize {
         self.row_idx.len()
+    }
+
+    /// Every slot row by row: each row's `(column, slot)` pairs at
+    /// `pairs[starts[i]..starts[i + 1]]` (a product of a matrix in these
+    /// slots with a vector as one sum a row, in a register).
+    pub fn rows(&self) -> &(Vec<usize>, Products) {
+        self.rows.get_or_init(|| {
+            let n = self.dim();
+            let columns = (0..n).map(|j| (j, self.col_ptr[j]..self.col_ptr[j + 1]));
+            // (`None` only past 32 bits, which `new` excludes.)
+            let (starts, pairs) = by_rows(n, columns, &self.row_idx).unwrap_or_default();
+            (starts, Products::new(pairs))
+        })
     }
 
     /// The sizes of the matrix of `x` (in this pattern's slots), block by

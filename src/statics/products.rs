@@ -54,6 +54,32 @@ impl Products {
         self.fold(acc, range, x, y, |acc, p| acc + p)
     }
 
+    /// `acc + Σ (y[b] - z[b]) x[a]` over the pairs `range`, added in
+    /// order: the product of a difference of two matrices in the same
+    /// slots (`y`, `z`) with a vector (`x`); panics as
+    /// [`Self::subtract_from`] (`y` and `z` each as long as the pairs need).
+    #[inline]
+    pub fn add_difference_to(
+        &self,
+        acc: f64,
+        range: Range<usize>,
+        x: &[f64],
+        y: &[f64],
+        z: &[f64],
+    ) -> f64 {
+        assert!(
+            x.len() >= self.need.0 && y.len() >= self.need.1 && z.len() >= self.need.1,
+            "an array shorter than its products' indices"
+        );
+        let mut acc = acc;
+        for &(a, b) in &self.pairs[range] {
+            let (a, b) = (a as usize, b as usize);
+            // SAFETY: the assertion above, as in `fold`.
+            acc += unsafe { (y.get_unchecked(b) - z.get_unchecked(b)) * x.get_unchecked(a) };
+        }
+        acc
+    }
+
     /// `acc` and each product `x[a] y[b]` of the pairs `range`, in order,
     /// combined by `step`, once `x` and `y` are known long enough for every
     /// pair (two comparisons a sum, not two a product).

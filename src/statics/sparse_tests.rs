@@ -141,6 +141,29 @@ fn the_scaling_found_with_the_distance_is_the_scaling() {
     assert_eq!(with.scale(), s);
 }
 
+/// `(B - A) y` row by row is the dense product's, on one and three
+/// coupled corners' whole patterns, to rounding, added to what `out` held.
+#[test]
+fn the_difference_times_a_vector_is_the_dense_product() {
+    for (corners, seed) in [(1, 41), (3, 43)] {
+        let (p, pat) = pattern(corners);
+        let (va, vb) = (values(&pat, p.layout.n(), seed), values(&pat, p.layout.n(), seed + 1));
+        let mut lu = SparseLu::new(pat.clone());
+        assert!(lu.factor(&va));
+        let dim = pat.dim();
+        let y: Vec<f64> = (0..dim).map(|i| (i as f64 * 0.71).cos()).collect();
+        let mut out = vec![1.0; dim];
+        lu.add_difference_times(&vb, &y, &mut out);
+        let (a, b) = (dense(&pat, &va), dense(&pat, &vb));
+        let mut worst = 0.0f64;
+        for (i, o) in out.iter().enumerate() {
+            let want = 1.0 + (0..dim).map(|j| (b[(i, j)] - a[(i, j)]) * y[j]).sum::<f64>();
+            worst = worst.max((o - want).abs());
+        }
+        assert!(worst < 1e-12, "N = {corners}: {worst:e}");
+    }
+}
+
 #[test]
 fn perturbation_estimates_the_distance_to_a_factorised_matrix() {
     use crate::statics::isolation::{STAND_IN, STAND_IN_MARGIN};
