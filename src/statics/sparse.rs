@@ -417,12 +417,18 @@ impl SparseLu {
     /// matrix of `values`: row by row, each row's sum in a register (a
     /// column's entries added into `out` one by one were a chain through
     /// memory, most of the isolation check's time where it estimates
-    /// `‖E‖`).
-    pub fn add_difference_times(&self, values: &[f64], y: &[f64], out: &mut [f64]) {
+    /// `‖E‖`). False, `out` untouched, if the rows do not cover it (a
+    /// pattern past 32-bit slots, which [`Pattern::new`] refuses): the
+    /// estimate then stands for nothing.
+    pub fn add_difference_times(&self, values: &[f64], y: &[f64], out: &mut [f64]) -> bool {
         let (starts, pairs) = self.pattern.rows();
+        if starts.len() != out.len() + 1 {
+            return false;
+        }
         for (o, row) in out.iter_mut().zip(starts.windows(2)) {
             *o = pairs.add_difference_to(*o, row[0]..row[1], y, values, &self.a);
         }
+        true
     }
 
     /// [`Self::reciprocal_condition_along`] from the cold start (two

@@ -153,7 +153,7 @@ fn the_difference_times_a_vector_is_the_dense_product() {
         let dim = pat.dim();
         let y: Vec<f64> = (0..dim).map(|i| (i as f64 * 0.71).cos()).collect();
         let mut out = vec![1.0; dim];
-        lu.add_difference_times(&vb, &y, &mut out);
+        assert!(lu.add_difference_times(&vb, &y, &mut out));
         let (a, b) = (dense(&pat, &va), dense(&pat, &vb));
         let mut worst = 0.0f64;
         for (i, o) in out.iter().enumerate() {
@@ -161,6 +161,10 @@ fn the_difference_times_a_vector_is_the_dense_product() {
             worst = worst.max((o - want).abs());
         }
         assert!(worst < 1e-12, "N = {corners}: {worst:e}");
+        // An output the rows do not cover is refused, untouched.
+        let mut short = vec![1.0; dim - 1];
+        assert!(!lu.add_difference_times(&vb, &y, &mut short));
+        assert!(short.iter().all(|v| *v == 1.0));
     }
 }
 

@@ -285,7 +285,9 @@ impl Factorisation {
                 (Factorisation::Sparse(lu), NewtonMatrix::Sparse(p, v))
                     if Arc::ptr_eq(lu.pattern(), p) =>
                 {
-                    lu.add_difference_times(v, y, &mut z)
+                    if !lu.add_difference_times(v, y, &mut z) {
+                        return false;
+                    }
                 }
                 _ => return false,
             }
