@@ -92,7 +92,10 @@ fn lanes_give_the_running_maximum_and_sum() {
         let mut drun = DifferenceLanes::default();
         drun.add_column(false, (&x, &y), (&[], &[]));
         assert_eq!(both.sizes.sizes(), run.sizes(), "n = {n}");
-        assert_eq!(both.difference.total(&scale).to_bits(), drun.total(&scale).to_bits());
+        assert_eq!(
+            both.difference.total(&scale).to_bits(),
+            drun.total(&scale).to_bits()
+        );
         if n > 0 {
             let short = std::panic::catch_unwind(|| {
                 SizeDifferenceLanes::default().take(0, &slots, &x, &spread(&y))

@@ -438,7 +438,9 @@ mod tests {
         assert!(drift(&keep_orthonormal(drifted)) < 1e-15);
         let (mut r, mut seed, mut restored, mut worst) = (exact, 3u64, 0, 0.0f64);
         let mut next = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
         };
         for _ in 0..200_000 {

@@ -147,7 +147,10 @@ fn the_scaling_found_with_the_distance_is_the_scaling() {
 fn the_difference_times_a_vector_is_the_dense_product() {
     for (corners, seed) in [(1, 41), (3, 43)] {
         let (p, pat) = pattern(corners);
-        let (va, vb) = (values(&pat, p.layout.n(), seed), values(&pat, p.layout.n(), seed + 1));
+        let (va, vb) = (
+            values(&pat, p.layout.n(), seed),
+            values(&pat, p.layout.n(), seed + 1),
+        );
         let mut lu = SparseLu::new(pat.clone());
         assert!(lu.factor(&va));
         let dim = pat.dim();
@@ -157,7 +160,10 @@ fn the_difference_times_a_vector_is_the_dense_product() {
         let (a, b) = (dense(&pat, &va), dense(&pat, &vb));
         let mut worst = 0.0f64;
         for (i, o) in out.iter().enumerate() {
-            let want = 1.0 + (0..dim).map(|j| (b[(i, j)] - a[(i, j)]) * y[j]).sum::<f64>();
+            let want = 1.0
+                + (0..dim)
+                    .map(|j| (b[(i, j)] - a[(i, j)]) * y[j])
+                    .sum::<f64>();
             worst = worst.max((o - want).abs());
         }
         assert!(worst < 1e-12, "N = {corners}: {worst:e}");
