@@ -135,7 +135,7 @@ impl Live {
 /// entries by rows ([`by_rows`], as the factors'), each then named by its
 /// slot of the full pattern. (The full pattern's slots, and so its
 /// dimension, fit in 32 bits: [`Pattern::new`].)
-fn rows(pattern: &Pattern, from: &[usize]) -> (Vec<usize>, Products) {
+pub(super) fn rows(pattern: &Pattern, from: &[usize]) -> (Vec<usize>, Products) {
     let n = pattern.dim();
     let columns = (0..n).map(|j| (j, pattern.col_ptr[j]..pattern.col_ptr[j + 1]));
     // (`None` only past 32 bits, which the pattern excludes.)

@@ -18,7 +18,6 @@ use super::condition::{SizeDifferenceLanes, Slots};
 use super::constraint::evaluate;
 use super::coords::State;
 use super::forces::for_each_element;
-use super::pivoting::by_rows;
 use super::products::Products;
 use faer::sparse::SymbolicSparseColMatRef;
 use std::ops::Range;
@@ -285,11 +284,9 @@ impl Pattern {
     /// slots with a vector as one sum a row, in a register).
     pub fn rows(&self) -> &(Vec<usize>, Products) {
         self.rows.get_or_init(|| {
-            let n = self.dim();
-            let columns = (0..n).map(|j| (j, self.col_ptr[j]..self.col_ptr[j + 1]));
-            // (`None` only past 32 bits, which `new` excludes.)
-            let (starts, pairs) = by_rows(n, columns, &self.row_idx).unwrap_or_default();
-            (starts, Products::new(pairs))
+            // The live slots' rows ([`super::live::rows`]) with every slot live.
+            let every: Vec<usize> = (0..self.nnz()).collect();
+            super::live::rows(self, &every)
         })
     }
 
