@@ -13,6 +13,7 @@
 //! product (6 % of the instructions of a McPherson path,
 //! `docs/performance.md`).
 
+use std::cell::Cell;
 use std::ops::Range;
 
 /// Index pairs `(a, b)` into two arrays, and the least lengths those arrays
@@ -37,18 +38,11 @@ impl Products {
         self.pairs.len()
     }
 
-    /// `acc - Σ x[a] y[b]` over the pairs `range`, subtracted in order (the
-    /// bits of the indexed loop it replaces).
+    /// `acc + Σ x[a] y[b]` over the pairs `range`, added in order (the bits
+    /// of the indexed loop it replaces).
     ///
     /// Panics if `range` is outside the pairs or `x` or `y` is shorter
     /// than the pairs need.
-    #[inline]
-    pub fn subtract_from(&self, acc: f64, range: Range<usize>, x: &[f64], y: &[f64]) -> f64 {
-        self.fold(acc, range, x, y, |acc, p| acc - p)
-    }
-
-    /// `acc + Σ x[a] y[b]` over the pairs `range`, added in order; panics as
-    /// [`Self::subtract_from`].
     #[inline]
     pub fn add_to(&self, acc: f64, range: Range<usize>, x: &[f64], y: &[f64]) -> f64 {
         self.fold(acc, range, x, y, |acc, p| acc + p)
@@ -57,7 +51,7 @@ impl Products {
     /// `acc + Σ (y[b] - z[b]) x[a]` over the pairs `range`, added in
     /// order: the product of a difference of two matrices in the same
     /// slots (`y`, `z`) with a vector (`x`); panics as
-    /// [`Self::subtract_from`] (`y` and `z` each as long as the pairs need).
+    /// [`Self::add_to`] (`y` and `z` each as long as the pairs need).
     #[inline]
     pub fn add_difference_to(
         &self,
@@ -108,6 +102,110 @@ impl Products {
     }
 }
 
+/// Arrays a [`Sweep`] reads by index: plain ones, and arrays of cells,
+/// which a refactorisation writes while its products read them.
+pub(crate) trait Values {
+    fn len(&self) -> usize;
+    /// The entry `i`.
+    ///
+    /// # Safety
+    /// `i < self.len()`.
+    unsafe fn at(&self, i: usize) -> f64;
+}
+
+impl Values for [f64] {
+    fn len(&self) -> usize {
+        <[f64]>::len(self)
+    }
+    #[inline(always)]
+    unsafe fn at(&self, i: usize) -> f64 {
+        // SAFETY: the caller's.
+        unsafe { *self.get_unchecked(i) }
+    }
+}
+
+impl Values for [Cell<f64>] {
+    fn len(&self) -> usize {
+        <[Cell<f64>]>::len(self)
+    }
+    #[inline(always)]
+    unsafe fn at(&self, i: usize) -> f64 {
+        // SAFETY: the caller's.
+        unsafe { self.get_unchecked(i).get() }
+    }
+}
+
+/// The pairs of a [`Products`] taken a run at a time, from the front or
+/// from the back, over two arrays checked against them once: a
+/// refactorisation and a substitution sum every pair once, run after run
+/// (an entry of the factors, a row), and checking the arrays and the run's
+/// range at each run cost about as much as its two or three products
+/// (`docs/performance.md`).
+pub(crate) struct Sweep<'a, X: ?Sized, Y: ?Sized> {
+    pairs: &'a [(u32, u32)],
+    x: &'a X,
+    y: &'a Y,
+}
+
+impl Products {
+    /// A sweep over every pair, reading `x[a]` and `y[b]`.
+    ///
+    /// Panics if `x` or `y` is shorter than the pairs need.
+    pub fn sweep<'a, X: Values + ?Sized, Y: Values + ?Sized>(
+        &'a self,
+        x: &'a X,
+        y: &'a Y,
+    ) -> Sweep<'a, X, Y> {
+        assert!(
+            x.len() >= self.need.0 && y.len() >= self.need.1,
+            "an array shorter than its products' indices"
+        );
+        Sweep {
+            pairs: &self.pairs,
+            x,
+            y,
+        }
+    }
+}
+
+impl<X: Values + ?Sized, Y: Values + ?Sized> Sweep<'_, X, Y> {
+    /// `acc - Σ x[a] y[b]` over the next `count` pairs from the front,
+    /// subtracted in order (the bits of the indexed loop it replaces).
+    ///
+    /// Panics if fewer than `count` pairs remain.
+    #[inline]
+    pub fn subtract_next(&mut self, acc: f64, count: usize) -> f64 {
+        let (now, rest) = self.pairs.split_at(count);
+        self.pairs = rest;
+        self.subtract(acc, now)
+    }
+
+    /// `acc - Σ x[a] y[b]` over the last `count` pairs that remain, in
+    /// their order; panics as [`Self::subtract_next`].
+    #[inline]
+    pub fn subtract_last(&mut self, acc: f64, count: usize) -> f64 {
+        let at = self
+            .pairs
+            .len()
+            .checked_sub(count)
+            .expect("fewer pairs left than asked for");
+        let (rest, now) = self.pairs.split_at(at);
+        self.pairs = rest;
+        self.subtract(acc, now)
+    }
+
+    #[inline(always)]
+    fn subtract(&self, acc: f64, pairs: &[(u32, u32)]) -> f64 {
+        let mut acc = acc;
+        for &(a, b) in pairs {
+            // SAFETY: every pair of the products is within `need`, which
+            // `x` and `y` were checked against (`Products::sweep`).
+            acc -= unsafe { self.x.at(a as usize) * self.y.at(b as usize) };
+        }
+        acc
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -120,23 +218,44 @@ mod tests {
         let p = Products::new(pairs.clone());
         let x = [0.1, -2.5, 7.0, 1.0 / 3.0];
         let y = [1e-3, 9.0, -0.7];
-        let mut minus = 5.0;
-        let mut plus = -5.0;
+        let (mut minus, mut plus) = (5.0, -5.0);
         for &(a, b) in &pairs[1..4] {
             minus -= x[a as usize] * y[b as usize];
             plus += x[a as usize] * y[b as usize];
         }
-        assert_eq!(
-            p.subtract_from(5.0, 1..4, &x, &y).to_bits(),
-            minus.to_bits()
-        );
         assert_eq!(p.add_to(-5.0, 1..4, &x, &y).to_bits(), plus.to_bits());
-        assert_eq!(p.subtract_from(5.0, 2..2, &x, &y), 5.0);
+        assert_eq!(p.add_to(5.0, 2..2, &x, &y), 5.0);
+        // A sweep: the first pair alone, then three, then none left.
+        let mut sweep = p.sweep(&x[..], &y[..]);
+        let first = 1.5 - x[3] * y[0];
+        assert_eq!(sweep.subtract_next(1.5, 1).to_bits(), first.to_bits());
+        assert_eq!(sweep.subtract_next(5.0, 3).to_bits(), minus.to_bits());
+        assert_eq!(sweep.subtract_next(2.0, 0), 2.0);
+        // From the back, over cells: the last three, then the first.
+        let cells = Cell::from_mut(&mut [0.1, -2.5, 7.0, 1.0 / 3.0][..])
+            .as_slice_of_cells()
+            .to_vec();
+        let mut sweep = p.sweep(&cells[..], &y[..]);
+        assert_eq!(sweep.subtract_last(5.0, 3).to_bits(), minus.to_bits());
+        assert_eq!(sweep.subtract_last(1.5, 1).to_bits(), first.to_bits());
         // The pair (3, 0), outside the range summed, still needs x[3].
         let short = std::panic::catch_unwind(|| p.add_to(0.0, 1..2, &x[..3], &y));
         assert!(short.is_err());
-        let short = std::panic::catch_unwind(|| p.subtract_from(0.0, 0..1, &x, &y[..2]));
-        assert!(short.is_err());
+        assert!(std::panic::catch_unwind(|| p.sweep(&x[..], &y[..2])).is_err());
+        assert!(std::panic::catch_unwind(|| p.sweep(&x[..3], &y[..])).is_err());
         assert!(std::panic::catch_unwind(|| p.add_to(0.0, 3..5, &x, &y)).is_err());
+        // More pairs than remain, from either end.
+        let more = |back: bool| {
+            std::panic::catch_unwind(|| {
+                let mut sweep = p.sweep(&x[..], &y[..]);
+                sweep.subtract_next(0.0, 2);
+                if back {
+                    sweep.subtract_last(0.0, 3)
+                } else {
+                    sweep.subtract_next(0.0, 3)
+                }
+            })
+        };
+        assert!(more(false).is_err() && more(true).is_err());
     }
 }

@@ -23,14 +23,11 @@ const FILL: u32 = u32::MAX;
 /// The products of a refactorisation for one structure of L and U.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Plan {
-    /// Per entry of U (in `Factors::u_val`'s order) and of L (in
-    /// `l_val`'s; its unit diagonal unused): the live slot the entry starts
-    /// from, or [`FILL`], and the end of its products in `ops` (they start
-    /// where the previous entry's end).
-    u_from: Vec<u32>,
-    u_end: Vec<u32>,
-    l_from: Vec<u32>,
-    l_end: Vec<u32>,
+    /// Per entry of the factors in the order they are computed (column by
+    /// column, U's then L's below its unit diagonal, each in its array's
+    /// order): the live slot it starts from, or [`FILL`], and how many of
+    /// `ops` it subtracts (they follow the previous entry's).
+    entries: Vec<(u32, u32)>,
     /// The products `(entry of L, entry of U)`, entry by entry in the order
     /// the entries are computed: column by column, U's (rows ascending, the
     /// pivot last), then L's.
@@ -122,11 +119,19 @@ impl Plan {
                 at[f.l_idx[e]] = FILL;
             }
         }
+        // Ends to counts, in the order `run` computes the entries.
+        let mut entries = Vec::with_capacity(nu + nl - n);
+        let mut start = 0;
+        for j in 0..n {
+            let u = (f.u_ptr[j]..f.u_ptr[j + 1]).map(|e| (u_from[e], u_end[e]));
+            let l = (f.l_ptr[j] + 1..f.l_ptr[j + 1]).map(|e| (l_from[e], l_end[e]));
+            for (from, end) in u.chain(l) {
+                entries.push((from, end - start));
+                start = end;
+            }
+        }
         Some(Plan {
-            u_from,
-            u_end,
-            l_from,
-            l_end,
+            entries,
             ops: Products::new(ops),
         })
     }
@@ -134,49 +139,61 @@ impl Plan {
     /// Refactorises the matrix of `values` (in the live slots) into `f`; false if a pivot is zero, not finite, or under `threshold`
     /// of the largest entry below it in its column (`f` is then to be
     /// factorised afresh).
+    ///
+    /// Panics if `f` does not hold the structure the plan was made for (as
+    /// many entries), or `values` lacks a slot the plan starts from.
     pub fn run(&self, f: &mut Factors, values: &[f64], threshold: f64) -> bool {
-        let n = f.u_inv.len();
-        let mut op = 0usize;
-        for j in 0..n {
-            let (us, ue) = (f.u_ptr[j], f.u_ptr[j + 1]);
-            for e in us..ue {
-                f.u_val[e] = self.entry(self.u_from[e], self.u_end[e], &mut op, f, values);
+        let Factors {
+            l_ptr,
+            l_val,
+            u_ptr,
+            u_val,
+            u_inv,
+            ..
+        } = f;
+        let n = u_inv.len();
+        assert_eq!(
+            self.entries.len() + n,
+            u_val.len() + l_val.len(),
+            "a plan for other factors"
+        );
+        // The entries are read by the products while they are written.
+        let l = std::cell::Cell::from_mut(&mut l_val[..]).as_slice_of_cells();
+        let u = std::cell::Cell::from_mut(&mut u_val[..]).as_slice_of_cells();
+        let mut ops = self.ops.sweep(l, u);
+        let mut entries = self.entries.iter();
+        let start = |from: u32| {
+            if from == FILL {
+                0.0
+            } else {
+                values[from as usize]
             }
-            let (ls, le) = (f.l_ptr[j] + 1, f.l_ptr[j + 1]);
+        };
+        for j in 0..n {
+            let (us, ue) = (u_ptr[j], u_ptr[j + 1]);
+            for (x, &(from, count)) in u[us..ue].iter().zip(entries.by_ref()) {
+                x.set(ops.subtract_next(start(from), count as usize));
+            }
+            let (ls, le) = (l_ptr[j] + 1, l_ptr[j + 1]);
             // (A NaN is passed over, as by `f64::max`; the solve's
             // finiteness check finds it.)
             let mut big = 0.0f64;
-            for e in ls..le {
-                let v = self.entry(self.l_from[e], self.l_end[e], &mut op, f, values);
-                f.l_val[e] = v;
+            for (x, &(from, count)) in l[ls..le].iter().zip(entries.by_ref()) {
+                let v = ops.subtract_next(start(from), count as usize);
+                x.set(v);
                 big = if v.abs() > big { v.abs() } else { big };
             }
-            let piv = f.u_val[ue - 1];
+            let piv = u[ue - 1].get();
             if !(piv.is_finite() && piv != 0.0 && piv.abs() >= threshold * big) {
                 return false;
             }
             let inv = 1.0 / piv;
-            f.u_inv[j] = inv;
-            for l in &mut f.l_val[ls..le] {
-                *l *= inv;
+            u_inv[j] = inv;
+            for x in &l[ls..le] {
+                x.set(x.get() * inv);
             }
         }
         true
-    }
-
-    /// An entry of the factors: its matrix entry (`from`, or zero for fill)
-    /// minus its products `ops[*op..end]`, in order; `*op` moves to `end`.
-    #[inline]
-    fn entry(&self, from: u32, end: u32, op: &mut usize, f: &Factors, values: &[f64]) -> f64 {
-        let acc = if from == FILL {
-            0.0
-        } else {
-            values[from as usize]
-        };
-        let end = end as usize;
-        let acc = self.ops.subtract_from(acc, *op..end, &f.l_val, &f.u_val);
-        *op = end;
-        acc
     }
 }
 

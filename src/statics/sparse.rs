@@ -290,27 +290,28 @@ impl SparseLu {
             return false;
         }
         // P A Q = L U: y = P b, then L U z = y, then x = Q z.
-        let (f, y, p) = (&self.own, &mut self.work, &self.live.pattern);
-        for (pos, &r) in self.row_perm.iter().enumerate() {
-            y[pos] = b[r];
+        let (f, p) = (&self.own, &self.live.pattern);
+        // (Written while the rows' products read it.)
+        let y = std::cell::Cell::from_mut(&mut self.work[..n]).as_slice_of_cells();
+        for (yp, &r) in y.iter().zip(&self.row_perm) {
+            yp.set(b[r]);
         }
-        // Row by row ([`super::pivoting::Rows`]), each row's sum in a register.
+        // Row by row ([`super::pivoting::Rows`]), each row's sum in a
+        // register; the rows' pairs `(column, entry)` (the entry's value
+        // times y's) come one row after the other, L's from the first row,
+        // U's from the last.
         let rows = &f.rows;
-        // (The pairs are `(column, entry)`: the entry's value times y's.)
-        for i in 0..n {
-            y[i] = rows
-                .l
-                .subtract_from(y[i], rows.l_ptr[i]..rows.l_ptr[i + 1], y, &f.l_val);
+        let mut l = rows.l.sweep(y, &f.l_val[..]);
+        for (yi, w) in y.iter().zip(rows.l_ptr.windows(2)) {
+            yi.set(l.subtract_next(yi.get(), w[1] - w[0]));
         }
-        for i in (0..n).rev() {
-            let acc = rows
-                .u
-                .subtract_from(y[i], rows.u_ptr[i]..rows.u_ptr[i + 1], y, &f.u_val);
-            y[i] = acc * f.u_inv[i];
+        let mut u = rows.u.sweep(y, &f.u_val[..]);
+        let ends = rows.u_ptr.windows(2).rev();
+        for ((yi, w), inv) in y.iter().rev().zip(ends).zip(f.u_inv.iter().rev()) {
+            yi.set(u.subtract_last(yi.get(), w[1] - w[0]) * inv);
         }
-        for (j, &c) in p.order.iter().enumerate() {
-            b[c] = y[j];
-            y[j] = 0.0;
+        for (yj, &c) in y.iter().zip(&p.order) {
+            b[c] = yj.replace(0.0);
         }
         b.iter().all(|v| v.is_finite())
     }
