@@ -155,18 +155,23 @@ impl Workspace {
                 }),
                 // The same products and sums into the pattern's slots: rows
                 // `ro..ro + 3` are one half of a part's rows, contiguous there.
-                NewtonMatrix::Sparse(pat, vals) => w.each_tangent(|ro, co, blk| {
-                    let Some(slots) = pat.block_slots(ro, co) else {
-                        *inside = false;
-                        return;
-                    };
-                    let (si, sj) = (scale[ro], scale[co]);
-                    for (b, &at) in slots.iter().enumerate() {
-                        for (x, v) in vals[at..at + 3].iter_mut().zip(blk.column(b).iter()) {
-                            *x += v * si * sj;
+                // (The values as a slice: through the vector, every store
+                // made its pointer and length be read again.)
+                NewtonMatrix::Sparse(pat, vals) => {
+                    let vals = vals.as_mut_slice();
+                    w.each_tangent(|ro, co, blk| {
+                        let Some(slots) = pat.block_slots(ro, co) else {
+                            *inside = false;
+                            return;
+                        };
+                        let (si, sj) = (scale[ro], scale[co]);
+                        for (b, &at) in slots.iter().enumerate() {
+                            for (x, v) in vals[at..at + 3].iter_mut().zip(blk.column(b).iter()) {
+                                *x += v * si * sj;
+                            }
                         }
-                    }
-                }),
+                    })
+                }
             }
         }
         for_each_element(&p.model, &p.layout, st, |_, w| {
@@ -227,15 +232,20 @@ impl Workspace {
             // entries are found by one look-up, not by dividing each
             // entry's coordinate by six.
             let force = w.generalized();
+            let force = force.as_slice();
             let offsets = w.offsets();
             let mut grad = [0.0f64; 12];
             let mut sq = 0.0f64;
+            // (A part's six entries by slices: one bounds check a part.)
             for (side, o) in offsets.iter().enumerate() {
                 let Some(o) = *o else { continue };
-                for c in 0..6 {
-                    let g = force[6 * side + c] * scale[o + c];
-                    grad[6 * side + c] = g;
-                    sq += g * g;
+                let (g6, f6) = (
+                    &mut grad[6 * side..6 * side + 6],
+                    &force[6 * side..6 * side + 6],
+                );
+                for ((g, f), s) in g6.iter_mut().zip(f6).zip(&scale[o..o + 6]) {
+                    *g = f * s;
+                    sq += *g * *g;
                 }
             }
             let norm = sq.sqrt();
@@ -265,20 +275,15 @@ impl Workspace {
                             }
                         }
                         NewtonMatrix::Sparse(pat, vals) => match pat.constraint_block(idx, o / 6) {
-                            Some(b) => {
-                                for (c, g) in row.iter().enumerate() {
-                                    let (u, v) = b.slots(c);
-                                    vals[u] += g * inv;
-                                    vals[v] += g * inv;
-                                }
-                            }
+                            Some(b) => b.add(vals, row, inv),
                             None => inside = false,
                         },
                     }
                 }
                 // `add` of the unit reaction times λ, from the force above.
-                for c in 0..6 {
-                    r[o + c] += lam * force[6 * side + c] * scale[o + c];
+                let f6 = &force[6 * side..6 * side + 6];
+                for ((x, f), s) in r[o..o + 6].iter_mut().zip(f6).zip(&scale[o..o + 6]) {
+                    *x += lam * f * s;
                 }
             }
             if tangent {

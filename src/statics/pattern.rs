@@ -33,8 +33,23 @@ pub(crate) struct ConstraintBlock {
 
 impl ConstraintBlock {
     /// The slots of `(n + k, 6 q + a)` and `(6 q + a, n + k)`.
+    #[cfg(test)]
     pub fn slots(&self, a: usize) -> (usize, usize) {
         (self.row + a * self.stride, self.column + a)
+    }
+
+    /// Adds `g[a] * inv` to both entries of each coordinate `a` of the
+    /// part: the equation's row (slots a column length apart) and its
+    /// column (six contiguous slots); each range's bounds checked once.
+    #[inline]
+    pub fn add(&self, vals: &mut [f64], g: &[f64], inv: f64) {
+        let row = &mut vals[self.row..=self.row + 5 * self.stride];
+        for (x, g) in row.iter_mut().step_by(self.stride).zip(g) {
+            *x += g * inv;
+        }
+        for (x, g) in vals[self.column..self.column + 6].iter_mut().zip(g) {
+            *x += g * inv;
+        }
     }
 }
 
