@@ -42,6 +42,20 @@ pub(crate) struct Workspace {
     /// The two wrenches an evaluation writes in place (see `scatter`),
     /// kept from one evaluation to the next.
     wrenches: Box<[Wrench; 2]>,
+    /// Each kept equation's row before it is scaled (see `scatter`).
+    rows: Vec<Row>,
+}
+
+/// A kept equation's value, its gradient (rotation columns times the
+/// length, the six entries of each part of its wrench's `offsets`) and the
+/// gradient's squared norm: what `scatter` takes from the loop over the
+/// equations to the loop that scales them.
+#[derive(Debug, Clone, Copy, Default)]
+struct Row {
+    v: f64,
+    sq: f64,
+    grad: [f64; 12],
+    offsets: [Option<usize>; 2],
 }
 
 impl Workspace {
@@ -74,6 +88,7 @@ impl Workspace {
             wrenches: Box::new(std::array::from_fn(|_| {
                 Wrench::new(None, None, Vec3::zeros(), Vec3::zeros())
             })),
+            rows: vec![Row::default(); m],
         }
     }
 
@@ -116,6 +131,7 @@ impl Workspace {
             load_scale,
             scale,
             wrenches,
+            rows,
         } = self;
         r.iter_mut().for_each(|v| *v = 0.0);
         if tangent {
@@ -234,58 +250,28 @@ impl Workspace {
             let force = w.generalized();
             let force = force.as_slice();
             let offsets = w.offsets();
-            let mut grad = [0.0f64; 12];
+            let row = &mut rows[idx];
+            row.v = v;
+            row.offsets = offsets;
             let mut sq = 0.0f64;
             // (A part's six entries by slices: one bounds check a part.)
             for (side, o) in offsets.iter().enumerate() {
                 let Some(o) = *o else { continue };
                 let (g6, f6) = (
-                    &mut grad[6 * side..6 * side + 6],
+                    &mut row.grad[6 * side..6 * side + 6],
                     &force[6 * side..6 * side + 6],
                 );
                 for ((g, f), s) in g6.iter_mut().zip(f6).zip(&scale[o..o + 6]) {
                     *g = f * s;
                     sq += *g * *g;
                 }
-            }
-            let norm = sq.sqrt();
-            let s = if norm > 0.0 {
-                norm
-            } else if is_length(eq.primitive) {
-                1.0
-            } else {
-                1.0 / l
-            };
-            row_scale[idx] = s;
-            // One division a row (its entries are multiplied by the
-            // reciprocal: a dozen divisions a row cost more than the row's
-            // other arithmetic).
-            let inv = 1.0 / s;
-            phi[idx] = v * inv;
-            unit_reaction[idx] = (w.g, w.m);
-            for (side, o) in offsets.iter().enumerate() {
-                let Some(o) = *o else { continue };
-                let row = &grad[6 * side..6 * side + 6];
-                if tangent {
-                    match a {
-                        NewtonMatrix::Dense(a) => {
-                            for (c, g) in row.iter().enumerate() {
-                                a[(n + idx, o + c)] += g * inv;
-                                a[(o + c, n + idx)] += g * inv;
-                            }
-                        }
-                        NewtonMatrix::Sparse(pat, vals) => match pat.constraint_block(idx, o / 6) {
-                            Some(b) => b.add(vals, row, inv),
-                            None => inside = false,
-                        },
-                    }
-                }
                 // `add` of the unit reaction times λ, from the force above.
-                let f6 = &force[6 * side..6 * side + 6];
                 for ((x, f), s) in r[o..o + 6].iter_mut().zip(f6).zip(&scale[o..o + 6]) {
                     *x += lam * f * s;
                 }
             }
+            row.sq = sq;
+            unit_reaction[idx] = (w.g, w.m);
             if tangent {
                 let key = (eq.joint, Arms::of(eq.primitive));
                 if group == Some(key) {
@@ -302,6 +288,45 @@ impl Workspace {
         }
         if group.is_some() {
             add_tangent(sum, a, scale, &mut inside);
+        }
+        // Each row scaled by its gradient's norm, once every row is known:
+        // a row's square root and division wait on the sum of its squares,
+        // and taken in the loop above they held up the equations after
+        // them; here the rows' chains overlap (`docs/performance.md`).
+        for (idx, (row, &e)) in rows.iter().zip(&p.kept).enumerate() {
+            let norm = row.sq.sqrt();
+            let s = if norm > 0.0 {
+                norm
+            } else if is_length(p.equations[e].primitive) {
+                1.0
+            } else {
+                1.0 / l
+            };
+            row_scale[idx] = s;
+            // One division a row (its entries are multiplied by the
+            // reciprocal: a dozen divisions a row cost more than the row's
+            // other arithmetic).
+            let inv = 1.0 / s;
+            phi[idx] = row.v * inv;
+            if !tangent {
+                continue;
+            }
+            for (side, o) in row.offsets.iter().enumerate() {
+                let Some(o) = *o else { continue };
+                let g = &row.grad[6 * side..6 * side + 6];
+                match a {
+                    NewtonMatrix::Dense(a) => {
+                        for (c, g) in g.iter().enumerate() {
+                            a[(n + idx, o + c)] += g * inv;
+                            a[(o + c, n + idx)] += g * inv;
+                        }
+                    }
+                    NewtonMatrix::Sparse(pat, vals) => match pat.constraint_block(idx, o / 6) {
+                        Some(b) => b.add(vals, g, inv),
+                        None => inside = false,
+                    },
+                }
+            }
         }
         Ok(inside)
     }
