@@ -68,11 +68,22 @@ pub fn evaluate_at(mi: &MarkerKin, mj: &MarkerKin, primitive: Primitive) -> (f64
 
 /// [`evaluate_at`] into a wrench kept by the caller (refilled in place, see
 /// [`Wrench::reset`]); returns the value of the equation.
+///
+/// Inlined into the evaluation's loop, which reads the wrench back at once
+/// (called, the reads waited on the stores of the call's last fields).
+#[inline(always)]
 pub fn evaluate_into(mi: &MarkerKin, mj: &MarkerKin, primitive: Primitive, w: &mut Wrench) -> f64 {
     let d = mi.p - mj.p;
     match primitive {
         Primitive::Coincident(k) => {
-            let e = Vec3::ith(k.index(), 1.0);
+            // (`Vec3::ith` stored the one over a zeroed vector on the stack
+            // and read the vector back whole: a load waiting on a narrower
+            // store, which stalls; a third of this function's time.)
+            let e = match k.index() {
+                0 => Vec3::x(),
+                1 => Vec3::y(),
+                _ => Vec3::z(),
+            };
             w.reset(mi.block, mj.block, mi.r, mj.r);
             w.g = e;
             d[k.index()]
