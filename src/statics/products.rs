@@ -74,6 +74,25 @@ impl Products {
         acc
     }
 
+    /// A sweep over every pair, reading `x[a]` and `y[b]`.
+    ///
+    /// Panics if `x` or `y` is shorter than the pairs need.
+    pub fn sweep<'a, X: Values + ?Sized, Y: Values + ?Sized>(
+        &'a self,
+        x: &'a X,
+        y: &'a Y,
+    ) -> Sweep<'a, X, Y> {
+        assert!(
+            x.len() >= self.need.0 && y.len() >= self.need.1,
+            "an array shorter than its products' indices"
+        );
+        Sweep {
+            pairs: &self.pairs,
+            x,
+            y,
+        }
+    }
+
     /// `acc` and each product `x[a] y[b]` of the pairs `range`, in order,
     /// combined by `step`, once `x` and `y` are known long enough for every
     /// pair (two comparisons a sum, not two a product).
@@ -104,7 +123,11 @@ impl Products {
 
 /// Arrays a [`Sweep`] reads by index: plain ones, and arrays of cells,
 /// which a refactorisation writes while its products read them.
-pub(crate) trait Values {
+///
+/// # Safety
+/// `at(i)` must be valid for every `i < len()`: a sweep checks the pairs'
+/// bounds against `len` once and then reads without a check.
+pub(crate) unsafe trait Values {
     fn len(&self) -> usize;
     /// The entry `i`.
     ///
@@ -113,7 +136,8 @@ pub(crate) trait Values {
     unsafe fn at(&self, i: usize) -> f64;
 }
 
-impl Values for [f64] {
+// SAFETY: `len` is the slice's, and `at` reads within it.
+unsafe impl Values for [f64] {
     fn len(&self) -> usize {
         <[f64]>::len(self)
     }
@@ -124,7 +148,8 @@ impl Values for [f64] {
     }
 }
 
-impl Values for [Cell<f64>] {
+// SAFETY: `len` is the slice's, and `at` reads within it.
+unsafe impl Values for [Cell<f64>] {
     fn len(&self) -> usize {
         <[Cell<f64>]>::len(self)
     }
@@ -145,27 +170,6 @@ pub(crate) struct Sweep<'a, X: ?Sized, Y: ?Sized> {
     pairs: &'a [(u32, u32)],
     x: &'a X,
     y: &'a Y,
-}
-
-impl Products {
-    /// A sweep over every pair, reading `x[a]` and `y[b]`.
-    ///
-    /// Panics if `x` or `y` is shorter than the pairs need.
-    pub fn sweep<'a, X: Values + ?Sized, Y: Values + ?Sized>(
-        &'a self,
-        x: &'a X,
-        y: &'a Y,
-    ) -> Sweep<'a, X, Y> {
-        assert!(
-            x.len() >= self.need.0 && y.len() >= self.need.1,
-            "an array shorter than its products' indices"
-        );
-        Sweep {
-            pairs: &self.pairs,
-            x,
-            y,
-        }
-    }
 }
 
 impl<X: Values + ?Sized, Y: Values + ?Sized> Sweep<'_, X, Y> {
