@@ -188,11 +188,9 @@ impl<X: Values + ?Sized, Y: Values + ?Sized> Sweep<'_, X, Y> {
     /// their order; panics as [`Self::subtract_next`].
     #[inline]
     pub fn subtract_last(&mut self, acc: f64, count: usize) -> f64 {
-        let at = self
-            .pairs
-            .len()
-            .checked_sub(count)
-            .expect("fewer pairs left than asked for");
+        let Some(at) = self.pairs.len().checked_sub(count) else {
+            panic!("fewer pairs left than asked for");
+        };
         let (rest, now) = self.pairs.split_at(at);
         self.pairs = rest;
         self.subtract(acc, now)
