@@ -11,7 +11,8 @@
 //! structure, so their bounds are found once, when the list is made, and a
 //! sum checks the two arrays it reads against them once instead of at every
 //! product (6 % of the instructions of a McPherson path,
-//! `docs/performance.md`).
+//! `docs/performance.md`). The refactorisation and the substitutions, which
+//! sum every pair once, run after run, check them once a pass ([`Sweep`]).
 
 use std::cell::Cell;
 use std::ops::Range;
