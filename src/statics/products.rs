@@ -46,7 +46,14 @@ impl Products {
     /// than the pairs need.
     #[inline]
     pub fn add_to(&self, acc: f64, range: Range<usize>, x: &[f64], y: &[f64]) -> f64 {
-        self.fold(acc, range, x, y, |acc, p| acc + p)
+        self.check(x.len(), y.len());
+        let mut acc = acc;
+        for &(a, b) in &self.pairs[range] {
+            // SAFETY: `check`: `x.len() >= need.0 > a` and
+            // `y.len() >= need.1 > b` for every pair (`new`).
+            acc += unsafe { x.get_unchecked(a as usize) * y.get_unchecked(b as usize) };
+        }
+        acc
     }
 
     /// `acc + Σ (y[b] - z[b]) x[a]` over the pairs `range`, added in
@@ -62,14 +69,11 @@ impl Products {
         y: &[f64],
         z: &[f64],
     ) -> f64 {
-        assert!(
-            x.len() >= self.need.0 && y.len() >= self.need.1 && z.len() >= self.need.1,
-            "an array shorter than its products' indices"
-        );
+        self.check(x.len(), y.len().min(z.len()));
         let mut acc = acc;
         for &(a, b) in &self.pairs[range] {
             let (a, b) = (a as usize, b as usize);
-            // SAFETY: the assertion above, as in `fold`.
+            // SAFETY: `check`, as in `add_to`.
             acc += unsafe { (y.get_unchecked(b) - z.get_unchecked(b)) * x.get_unchecked(a) };
         }
         acc
@@ -83,10 +87,7 @@ impl Products {
         x: &'a X,
         y: &'a Y,
     ) -> Sweep<'a, X, Y> {
-        assert!(
-            x.len() >= self.need.0 && y.len() >= self.need.1,
-            "an array shorter than its products' indices"
-        );
+        self.check(x.len(), y.len());
         Sweep {
             pairs: &self.pairs,
             x,
@@ -94,31 +95,15 @@ impl Products {
         }
     }
 
-    /// `acc` and each product `x[a] y[b]` of the pairs `range`, in order,
-    /// combined by `step`, once `x` and `y` are known long enough for every
-    /// pair (two comparisons a sum, not two a product).
+    /// Panics unless arrays of these lengths hold every pair's first and
+    /// second index: the one check the unchecked reads above rely on (two
+    /// comparisons a sum or a sweep, not two a product).
     #[inline(always)]
-    fn fold(
-        &self,
-        acc: f64,
-        range: Range<usize>,
-        x: &[f64],
-        y: &[f64],
-        step: impl Fn(f64, f64) -> f64,
-    ) -> f64 {
+    fn check(&self, x_len: usize, y_len: usize) {
         assert!(
-            x.len() >= self.need.0 && y.len() >= self.need.1,
+            x_len >= self.need.0 && y_len >= self.need.1,
             "an array shorter than its products' indices"
         );
-        let mut acc = acc;
-        for &(a, b) in &self.pairs[range] {
-            // SAFETY: the assertion above: `x.len() >= need.0 > a` and
-            // `y.len() >= need.1 > b` for every pair (`new`).
-            acc = step(acc, unsafe {
-                x.get_unchecked(a as usize) * y.get_unchecked(b as usize)
-            });
-        }
-        acc
     }
 }
 
@@ -202,7 +187,7 @@ impl<X: Values + ?Sized, Y: Values + ?Sized> Sweep<'_, X, Y> {
         let mut acc = acc;
         for &(a, b) in pairs {
             // SAFETY: every pair of the products is within `need`, which
-            // `x` and `y` were checked against (`Products::sweep`).
+            // `x` and `y` were checked against (`Products::sweep`, `check`).
             acc -= unsafe { self.x.at(a as usize) * self.y.at(b as usize) };
         }
         acc
