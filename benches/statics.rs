@@ -84,7 +84,49 @@ fn main() {
         "random_500_path: {steps} Newton steps, {lus} factorisations; results digest {:016x}",
         std::hash::Hasher::finish(&h)
     );
+    let (median, mean) = case_times(&p, set, &m, 21);
+    println!(
+        "random_500_path per case, medians of 21 runs: median case {median:.2} µs, mean case {mean:.2} µs"
+    );
     divan::main();
+}
+
+/// The random path's cases each timed on its own, as Exudyn's script
+/// times its cases (`../shared/peers/exudyn`, the median over the cases of
+/// one run): per run, the median and the mean case over the path (the first
+/// case, from design with a fresh solver, is one of them), and of each the
+/// median over `runs` runs. The divan bench's median path over 500 is a
+/// mean case; compared with Exudyn's median case it counts the slow cases
+/// on one side only.
+fn case_times(p: &Problem, set: LoadSetId, m: &Model, runs: usize) -> (f64, f64) {
+    let loads = axle::statics::path::set_loads(m, set).expect("loads");
+    let start = axle::statics::State::design(m);
+    let (mut medians, mut means) = (Vec::new(), Vec::new());
+    for _ in 0..runs {
+        let mut times: Vec<f64> = Vec::with_capacity(loads.len());
+        let mut at = std::time::Instant::now();
+        let run = axle::statics::path::Simulator::new().run_each(p, &loads, &start, |_, _| {
+            let now = std::time::Instant::now();
+            times.push((now - at).as_secs_f64() * 1e6);
+            at = now;
+            std::ops::ControlFlow::Continue(())
+        });
+        assert!(run.failure.is_none(), "the random path solves");
+        means.push(times.iter().sum::<f64>() / times.len() as f64);
+        medians.push(median(&mut times));
+    }
+    (median(&mut medians), median(&mut means))
+}
+
+/// The median of `v` (the mean of the middle two for an even length).
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let k = v.len() / 2;
+    if v.len() % 2 == 1 {
+        v[k]
+    } else {
+        0.5 * (v[k - 1] + v[k])
+    }
 }
 
 /// The McPherson example and one of its load sets.
