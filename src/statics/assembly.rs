@@ -246,14 +246,13 @@ impl Workspace {
                 f.2 = frame(j.j);
             }
             let (_, mi, mj) = &*f;
-            let v = evaluate_into(mi, mj, eq.primitive, w);
+            let (v, force) = evaluate_into(mi, mj, eq.primitive, w);
             // The gradient row with rotation columns times the length, as in
             // `redundancy::scaled_jacobian`, and the generalised force it
             // scales (computed once for both uses), part by part: the six
             // entries of I's part, then J's (none for the ground). A part's
             // entries are found by one look-up, not by dividing each
             // entry's coordinate by six.
-            let force = w.generalized();
             let force = force.as_slice();
             let offsets = w.offsets();
             let row = &mut rows[idx];

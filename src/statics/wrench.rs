@@ -166,6 +166,21 @@ fn turning(r: &Vec3) -> Option<Mat3> {
     (*r != Vec3::zeros()).then(|| -skew(r))
 }
 
+/// The generalised force on `[I; J]` of the force `g` and torque `m` on I
+/// at the arms `r_i` (I's) and `rho` (J's): [`Wrench::generalized`], for a
+/// caller that holds them in registers (a wrench's arms read back just
+/// after they were stored wait on the stores, see
+/// [`super::constraint::evaluate_into`]).
+#[inline(always)]
+pub fn generalized(g: &Vec3, m: &Vec3, r_i: &Vec3, rho: &Vec3) -> V12 {
+    let mut q = V12::zeros();
+    q.fixed_rows_mut::<3>(0).copy_from(g);
+    q.fixed_rows_mut::<3>(3).copy_from(&(r_i.cross(g) + m));
+    q.fixed_rows_mut::<3>(6).copy_from(&(-g));
+    q.fixed_rows_mut::<3>(9).copy_from(&(-rho.cross(g) - m));
+    q
+}
+
 impl Wrench {
     /// A wrench with zero derivatives, to be filled by the element.
     pub fn new(i: Option<usize>, j: Option<usize>, r_i: Vec3, rho: Vec3) -> Wrench {
@@ -234,14 +249,7 @@ impl Wrench {
 
     /// The generalised force on `[I; J]`.
     pub fn generalized(&self) -> V12 {
-        let mut q = V12::zeros();
-        q.fixed_rows_mut::<3>(0).copy_from(&self.g);
-        q.fixed_rows_mut::<3>(3)
-            .copy_from(&(self.r_i.cross(&self.g) + self.m));
-        q.fixed_rows_mut::<3>(6).copy_from(&(-self.g));
-        q.fixed_rows_mut::<3>(9)
-            .copy_from(&(-self.rho.cross(&self.g) - self.m));
-        q
+        generalized(&self.g, &self.m, &self.r_i, &self.rho)
     }
 
     /// The derivative of [`Self::generalized`] with respect to the 12 local increments.
