@@ -368,6 +368,19 @@ pub struct MarkerKin {
 }
 
 pub fn marker_kin(model: &Model, layout: &Layout, state: &State, id: MarkerId) -> MarkerKin {
+    marker_kin_inlined(model, layout, state, id)
+}
+
+/// [`marker_kin`] inlined into its caller: one that reads the frame back at
+/// once in wider loads than the call's stores (a bushing's first products),
+/// which wait on those stores.
+#[inline(always)]
+pub fn marker_kin_inlined(
+    model: &Model,
+    layout: &Layout,
+    state: &State,
+    id: MarkerId,
+) -> MarkerKin {
     let m = model.marker(id);
     let (x, rot) = state.part_pose(m.part);
     let c = layout

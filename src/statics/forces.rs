@@ -3,7 +3,7 @@
 //! tabulated), stops (compression, rebound) and point loads (`conventions.md`);
 //! friction elements are evaluated by [`super::friction`].
 
-use super::coords::{Layout, MarkerKin, State, marker_kin};
+use super::coords::{Layout, MarkerKin, State, marker_kin, marker_kin_inlined};
 use super::error::{StaticsError, StaticsErrorKind};
 use super::wrench::{Blocks, RhoMotion, Wrench, d_point_i, d_point_j};
 use crate::geom::{Mat3, Vec3, projected_angles, skew, times_skew};
@@ -110,8 +110,8 @@ fn scale_columns(m: &Mat3, d: &Mat3) -> Mat3 {
 }
 
 pub fn bushing(model: &Model, layout: &Layout, state: &State, b: &Bushing) -> BushingEval {
-    let mi = marker_kin(model, layout, state, b.i);
-    let mj = marker_kin(model, layout, state, b.j);
+    let mi = marker_kin_inlined(model, layout, state, b.i);
+    let mj = marker_kin_inlined(model, layout, state, b.j);
     let rj = mj.axes;
     let (t, q, angles) = deformation(&mi, &mj);
     let (force, torque, kt, ka) = laws(b, &t, &angles);
