@@ -4,6 +4,7 @@
 //! [`super::newton`] for the scaling and the loop that uses them).
 
 use super::Problem;
+use super::condition::largest_or_infinite;
 use super::constraint::{evaluate_into, is_length};
 use super::coords::{MarkerKin, State, marker_kin};
 use super::error::StaticsError;
@@ -403,7 +404,7 @@ impl Workspace {
     /// (a force overflowing) is an infinite error, never a converged one.
     pub fn errors(&self, p: &Problem) -> (f64, f64) {
         let force = self.force_scale();
-        let (r, phi) = (amax(&self.r), amax(&self.phi));
+        let (r, phi) = (largest_or_infinite(&self.r), largest_or_infinite(&self.phi));
         if !force.is_finite() || !r.is_finite() || !phi.is_finite() {
             return (f64::INFINITY, f64::INFINITY);
         }
@@ -439,16 +440,4 @@ impl Arms {
             Primitive::InPlane(_) => Arms::PointOfI,
         }
     }
-}
-
-/// The largest magnitude, infinite when an entry is NaN (which `f64::max`
-/// would silently drop).
-fn amax(v: &[f64]) -> f64 {
-    v.iter().fold(0.0f64, |m, x| {
-        if x.is_nan() {
-            f64::INFINITY
-        } else {
-            m.max(x.abs())
-        }
-    })
 }

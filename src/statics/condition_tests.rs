@@ -113,6 +113,51 @@ fn lanes_give_the_running_maximum_and_sum() {
     }
 }
 
+/// A residual's size in lanes is the one running maximum's, to the bit,
+/// wherever the largest entry sits; a NaN anywhere makes it infinite (the
+/// chain it replaced returned infinity from the NaN on, and a later entry
+/// could not lower that), an infinity stays one.
+#[test]
+fn residual_sizes_in_lanes_are_the_chain_and_a_nan_is_infinite() {
+    let chain = |v: &[f64]| {
+        v.iter().fold(0.0f64, |m, x| {
+            if x.is_nan() {
+                f64::INFINITY
+            } else {
+                m.max(x.abs())
+            }
+        })
+    };
+    for n in 0..=19usize {
+        for at in 0..n.max(1) {
+            let mut v: Vec<f64> = (0..n).map(|i| ((i * 7 % 11) as f64 - 5.0) * 0.37).collect();
+            if n > 0 {
+                v[at] = -12.25;
+            }
+            assert_eq!(
+                largest_or_infinite(&v).to_bits(),
+                chain(&v).to_bits(),
+                "n = {n}, at {at}"
+            );
+            if n > 0 {
+                v[at] = f64::NAN;
+                assert_eq!(
+                    largest_or_infinite(&v),
+                    f64::INFINITY,
+                    "n = {n}, NaN at {at}"
+                );
+                v[at] = f64::NEG_INFINITY;
+                assert_eq!(
+                    largest_or_infinite(&v),
+                    f64::INFINITY,
+                    "n = {n}, -inf at {at}"
+                );
+            }
+        }
+    }
+    assert_eq!(largest_or_infinite(&[]), 0.0);
+}
+
 /// The problem of two coupled McPherson corners and the Newton
 /// matrices at its equilibria along table 5-1, in order.
 fn corner_matrices() -> (crate::statics::Problem, Vec<DMatrix<f64>>) {
