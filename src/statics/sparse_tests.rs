@@ -4,6 +4,7 @@
 use super::*;
 use crate::statics::Problem;
 use crate::statics::linear::Lu;
+use crate::statics::live::DROP;
 use crate::statics::path::solve_path;
 use crate::statics::pattern::ColumnOrder;
 use crate::statics::tangent::SPARSE_FROM;
@@ -373,6 +374,42 @@ fn a_non_zero_outside_the_live_slots_widens_them() {
     assert_ne!(own.pattern.order, order);
     check(&mut s, &inside);
     assert_eq!(s.widened, 1);
+}
+
+/// Outside the live slots a matrix holds if each entry is at most `DROP`
+/// times its largest and a number: exact zeros (the quick check of the
+/// entries' bits), a negative zero and a rounding-sized entry (the
+/// comparison they fall through to) hold; an entry past the limit, a NaN or
+/// an infinity does not, in any dead slot.
+#[test]
+fn the_slots_outside_hold_zeros_and_roundings_only() {
+    let (p, pat) = pattern(1);
+    let v = values(&pat, p.layout.n(), 21);
+    let keep: Vec<bool> = (0..pat.nnz()).map(|k| k % 5 != 0).collect();
+    let narrow = Live::ordered(&pat, &keep, ColumnOrder::Amd).expect("order");
+    let inside: Vec<f64> = v
+        .iter()
+        .zip(&keep)
+        .map(|(x, k)| if *k { *x } else { 0.0 })
+        .collect();
+    let big = largest(&inside);
+    assert!(narrow.holds(&inside, big));
+    let dead: Vec<usize> = (0..pat.nnz()).filter(|&k| !keep[k]).collect();
+    assert!(dead.len() > 10);
+    for &k in &dead {
+        let with = |x: f64| {
+            let mut w = inside.clone();
+            w[k] = x;
+            narrow.holds(&w, big)
+        };
+        assert!(with(-0.0), "slot {k}");
+        assert!(with(0.5 * DROP * big) && with(-DROP * big), "slot {k}");
+        assert!(
+            !with(2.0 * DROP * big) && !with(-2.0 * DROP * big),
+            "slot {k}"
+        );
+        assert!(!with(f64::NAN) && !with(f64::INFINITY), "slot {k}");
+    }
 }
 
 /// The residual a solution leaves, `‖A x - b‖∞`, computed from the matrix
