@@ -74,11 +74,9 @@ pub(crate) struct SparseLu {
     pub widened: usize,
     row_perm: Vec<usize>,
     row_perm_inv: Vec<usize>,
-    /// The matrix factorised in the pattern's slots: its entries in the
-    /// live slots, zero in the others (whose entries [`Live::holds`]
-    /// bounded by a rounding's size; the factors are those of this
-    /// matrix). The refactorisation reads it in place; `live_a` holds its
-    /// live entries in the live slots' order for a fresh elimination.
+    /// The matrix factorised in the pattern's slots: `live_a` in the live
+    /// slots, zero in the others (whose entries [`Live::holds`] bounded by a
+    /// rounding's size; the factors are those of this matrix).
     a: Vec<f64>,
     /// Largest absolute entry of the matrix factorised.
     a_max: f64,
@@ -188,9 +186,8 @@ impl SparseLu {
         self.scale.set(None);
         // The largest live entry is the matrix's largest when the other
         // entries are at most `DROP` times it, which is what `holds` asks.
-        let clean;
-        (self.a_max, clean) = self.gather(values);
-        if !clean && !self.live.holds(values, self.a_max) {
+        self.a_max = self.gather(values);
+        if !self.live.holds(values, self.a_max) {
             let Some(live) = self.live.widened(&self.pattern, values) else {
                 return false;
             };
@@ -198,19 +195,16 @@ impl SparseLu {
             self.live_a.resize(self.live.from.len(), 0.0);
             self.reusable = false;
             self.widened += 1;
-            (self.a_max, _) = self.gather(values);
+            self.a_max = self.gather(values);
         }
-        self.last_reused = self.reusable && self.plan.run(&mut self.own, &self.a, PIVOT_THRESHOLD);
+        self.last_reused =
+            self.reusable && self.plan.run(&mut self.own, &self.live_a, PIVOT_THRESHOLD);
         if self.last_reused {
             self.reused += 1;
             self.valid = true;
             return true;
         }
         self.fresh += 1;
-        // (The elimination takes the live entries in the live slots' order.)
-        for (v, &k) in self.live_a.iter_mut().zip(&self.live.from) {
-            *v = self.a[k];
-        }
         let ok = self.factor_fresh(choose_columns);
         let plan = ok
             .then(|| Plan::new(&self.own, &self.live, &self.row_perm_inv))
@@ -239,19 +233,16 @@ impl SparseLu {
         Some(self.factor(values))
     }
 
-    /// `values` into `a`, zero outside the live slots, and the largest
-    /// live entry; whether `values` was zero there already (in every
-    /// matrix met so far: one pass over those entries' bits, and the
-    /// entries are zeroed only where one is not). The plan reads `a` in
-    /// place: a copy of the live entries into their own array, one indexed
-    /// load and two stores an entry, took a seventh of a refactorisation.
-    fn gather(&mut self, values: &[f64]) -> (f64, bool) {
-        self.a.copy_from_slice(values);
-        let clean = self.live.outside_bits(&self.a) == 0;
-        if !clean {
-            self.live.clear_outside(&mut self.a);
+    /// The live entries of `values` into `live_a` and `a`; their largest
+    /// magnitude (a NaN passed over, as by `f64::max`).
+    fn gather(&mut self, values: &[f64]) -> f64 {
+        for (v, &k) in self.live_a.iter_mut().zip(&self.live.from) {
+            let x = values[k];
+            *v = x;
+            self.a[k] = x;
         }
-        (largest(&self.a), clean)
+        // In lanes: a running maximum is a chain of dependent steps.
+        largest(&self.live_a)
     }
 
     /// [`Self::factor`] with fresh pivots whose columns are chosen with
