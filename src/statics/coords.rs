@@ -375,7 +375,7 @@ pub fn marker_kin(model: &Model, layout: &Layout, state: &State, id: MarkerId) -
 /// once in wider loads than the call's stores (a bushing's first products),
 /// which wait on those stores.
 #[inline(always)]
-pub fn marker_kin_inlined(
+pub(super) fn marker_kin_inlined(
     model: &Model,
     layout: &Layout,
     state: &State,

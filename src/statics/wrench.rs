@@ -172,7 +172,7 @@ fn turning(r: &Vec3) -> Option<Mat3> {
 /// after they were stored wait on the stores, see
 /// [`super::constraint::evaluate_into`]).
 #[inline(always)]
-pub fn generalized(g: &Vec3, m: &Vec3, r_i: &Vec3, rho: &Vec3) -> V12 {
+pub(super) fn generalized(g: &Vec3, m: &Vec3, r_i: &Vec3, rho: &Vec3) -> V12 {
     let mut q = V12::zeros();
     q.fixed_rows_mut::<3>(0).copy_from(g);
     q.fixed_rows_mut::<3>(3).copy_from(&(r_i.cross(g) + m));
