@@ -78,6 +78,21 @@ fn main() {
     let eqs = solve_path(&p, set).expect("solves");
     let steps: usize = eqs.iter().map(|e| e.iterations).sum();
     let lus: usize = eqs.iter().map(|e| e.factorizations).sum();
+    // How the cases' work is spread: the median case is one of these kinds.
+    let mut kinds = std::collections::BTreeMap::new();
+    for e in &eqs {
+        *kinds
+            .entry((e.iterations, e.factorizations))
+            .or_insert(0usize) += 1;
+    }
+    let kinds: Vec<String> = kinds
+        .iter()
+        .map(|((s, f), c)| format!("{c} of ({s}, {f})"))
+        .collect();
+    println!(
+        "random_500_path cases by (Newton steps, factorisations): {}",
+        kinds.join(", ")
+    );
     let mut h = std::collections::hash_map::DefaultHasher::new();
     std::hash::Hash::hash(&format!("{eqs:?}"), &mut h);
     println!(
@@ -88,6 +103,23 @@ fn main() {
     println!(
         "random_500_path per case, medians of 21 runs: median case {median:.2} µs, mean case {mean:.2} µs"
     );
+    // A peer's own loads file timed the same way, for a comparison on the
+    // very cases it solved (`AXLE_BENCH_LOADS=…/random_500.csv`, the CSV of
+    // `interfaces.md`): the bench's path has the same statistics, not the
+    // same cases.
+    if let Ok(path) = std::env::var("AXLE_BENCH_LOADS") {
+        let text = std::fs::read_to_string(&path).expect("the loads file reads");
+        let (mut m, _) = mcpherson("thesis_table_5_1");
+        let loads = axle::data::loads::read(&text, "peer", &m).expect("a loads CSV");
+        let cases = loads.cases.len();
+        m.load_sets.push(loads);
+        let set = LoadSetId(m.load_sets.len() as u32 - 1);
+        let p = Problem::new(&m).expect("problem");
+        let (median, mean) = case_times(&p, set, &m, 21);
+        println!(
+            "{path} ({cases} cases) per case, medians of 21 runs: median case {median:.2} µs, mean case {mean:.2} µs"
+        );
+    }
     divan::main();
 }
 
