@@ -170,6 +170,20 @@ impl<X: Values + ?Sized, Y: Values + ?Sized> Sweep<'_, X, Y> {
         self.subtract(acc, now)
     }
 
+    /// [`Self::subtract_next`] without checking that `count` pairs remain
+    /// (a refactorisation's entries take every pair once, by counts fixed
+    /// with its plan: two instructions an entry saved).
+    ///
+    /// # Safety
+    /// At least `count` pairs remain.
+    #[inline]
+    pub unsafe fn subtract_next_unchecked(&mut self, acc: f64, count: usize) -> f64 {
+        // SAFETY: the caller's.
+        let (now, rest) = unsafe { self.pairs.split_at_unchecked(count) };
+        self.pairs = rest;
+        self.subtract(acc, now)
+    }
+
     /// `acc - Σ x[a] y[b]` over the last `count` pairs that remain, in
     /// their order; panics as [`Self::subtract_next`].
     #[inline]

@@ -26,12 +26,17 @@ pub(crate) struct Plan {
     /// Per entry of the factors in the order they are computed (column by
     /// column, U's then L's below its unit diagonal, each in its array's
     /// order): the live slot it starts from, or [`FILL`], and how many of
-    /// `ops` it subtracts (they follow the previous entry's).
+    /// `ops` it subtracts (they follow the previous entry's: the counts add
+    /// up to `ops`' length, which `run` relies on).
     entries: Vec<(u32, u32)>,
     /// The products `(entry of L, entry of U)`, entry by entry in the order
     /// the entries are computed: column by column, U's (rows ascending, the
     /// pivot last), then L's.
     ops: Products,
+    /// One more than the largest live slot an entry starts from: the
+    /// matrix's values are checked against it once a refactorisation, not
+    /// at every entry.
+    values_need: usize,
 }
 
 impl Plan {
@@ -130,9 +135,20 @@ impl Plan {
                 start = end;
             }
         }
+        // (So by construction; `run` reads the pairs unchecked on it.)
+        if entries.iter().map(|e| e.1 as usize).sum::<usize>() != ops.len() {
+            return None;
+        }
+        let values_need = entries
+            .iter()
+            .filter(|e| e.0 != FILL)
+            .map(|e| e.0 as usize + 1)
+            .max()
+            .unwrap_or(0);
         Some(Plan {
             entries,
             ops: Products::new(ops),
+            values_need,
         })
     }
 
@@ -157,29 +173,44 @@ impl Plan {
             u_val.len() + l_val.len(),
             "a plan for other factors"
         );
+        assert!(
+            values.len() >= self.values_need,
+            "a matrix without a slot the plan starts from"
+        );
         // The entries are read by the products while they are written.
         let l = std::cell::Cell::from_mut(&mut l_val[..]).as_slice_of_cells();
         let u = std::cell::Cell::from_mut(&mut u_val[..]).as_slice_of_cells();
         let mut ops = self.ops.sweep(l, u);
-        let mut entries = self.entries.iter();
         let start = |from: u32| {
             if from == FILL {
                 0.0
             } else {
-                values[from as usize]
+                // SAFETY: `from < values_need <= values.len()` (checked above).
+                unsafe { *values.get_unchecked(from as usize) }
             }
+        };
+        // Each column's entries as a slice the length of its factors' run
+        // (two slices zipped count once; a zip with the entries' iterator
+        // checked both ends at every entry).
+        let mut entries = &self.entries[..];
+        let mut next = |k: usize| {
+            let (now, rest) = entries.split_at(k);
+            entries = rest;
+            now
         };
         for j in 0..n {
             let (us, ue) = (u_ptr[j], u_ptr[j + 1]);
-            for (x, &(from, count)) in u[us..ue].iter().zip(entries.by_ref()) {
-                x.set(ops.subtract_next(start(from), count as usize));
+            for (x, &(from, count)) in u[us..ue].iter().zip(next(ue - us)) {
+                // SAFETY: the entries' counts add up to the pairs (`entries`).
+                x.set(unsafe { ops.subtract_next_unchecked(start(from), count as usize) });
             }
             let (ls, le) = (l_ptr[j] + 1, l_ptr[j + 1]);
             // (A NaN is passed over, as by `f64::max`; the solve's
             // finiteness check finds it.)
             let mut big = 0.0f64;
-            for (x, &(from, count)) in l[ls..le].iter().zip(entries.by_ref()) {
-                let v = ops.subtract_next(start(from), count as usize);
+            for (x, &(from, count)) in l[ls..le].iter().zip(next(le - ls)) {
+                // SAFETY: as above.
+                let v = unsafe { ops.subtract_next_unchecked(start(from), count as usize) };
                 x.set(v);
                 big = if v.abs() > big { v.abs() } else { big };
             }
@@ -292,6 +323,28 @@ mod tests {
             // A pivot under the threshold is refused.
             assert!(!plan.run(&mut g, &w, 1e6));
         }
+    }
+
+    /// A matrix shorter than the slots the plan starts from is refused
+    /// before any entry is computed (the entries then read the matrix
+    /// without a check each).
+    #[test]
+    #[should_panic(expected = "a matrix without a slot the plan starts from")]
+    fn a_matrix_without_the_plans_slots_is_refused() {
+        let mut rng = Lcg::new(5);
+        let (live, v) = corners_matrix(1, &mut rng);
+        let n = live.pattern.dim();
+        let (mut f, mut perm, mut inv) = (Factors::default(), vec![0; n], vec![0; n]);
+        assert!(pivoting::factor(
+            &live.pattern,
+            &v,
+            &mut f,
+            &mut perm,
+            &mut inv
+        ));
+        let plan = Plan::new(&f, &live, &inv).expect("a plan");
+        // Every slot is live, so the last is an entry's start.
+        plan.run(&mut f, &v[..v.len() - 1], 1e-4);
     }
 
     /// The elimination that chooses its columns with its pivots (threshold
