@@ -135,7 +135,8 @@ impl Plan {
                 start = end;
             }
         }
-        // (So by construction; `run` reads the pairs unchecked on it.)
+        // (They do by construction: `run` takes the pairs without a check
+        // on it, so it is verified, not assumed.)
         if entries.iter().map(|e| e.1 as usize).sum::<usize>() != ops.len() {
             return None;
         }
@@ -283,6 +284,23 @@ mod tests {
         (Live::all(&pat), v)
     }
 
+    /// [`corners_matrix`] factorised by the elimination in its pattern's
+    /// order (its row pivots' positions `inv`), and the plan of its factors.
+    fn factorised(corners: usize, rng: &mut Lcg) -> (Live, Vec<f64>, Factors, Vec<usize>, Plan) {
+        let (live, v) = corners_matrix(corners, rng);
+        let n = live.pattern.dim();
+        let (mut f, mut perm, mut inv) = (Factors::default(), vec![0; n], vec![0; n]);
+        assert!(pivoting::factor(
+            &live.pattern,
+            &v,
+            &mut f,
+            &mut perm,
+            &mut inv
+        ));
+        let plan = Plan::new(&f, &live, &inv).expect("a plan");
+        (live, v, f, inv, plan)
+    }
+
     /// On the KKT patterns of one and two coupled McPherson corners (47 and
     /// 94 unknowns): the plan refactorises the matrix a fresh elimination
     /// factorised into the same factors (the same products in the same
@@ -292,17 +310,8 @@ mod tests {
     fn the_plan_refactorises_as_the_elimination() {
         for corners in [1, 2] {
             let mut rng = Lcg::new(17 + corners as u64);
-            let (live, v) = corners_matrix(corners, &mut rng);
+            let (live, v, f, inv, plan) = factorised(corners, &mut rng);
             let n = live.pattern.dim();
-            let (mut f, mut perm, mut inv) = (Factors::default(), vec![0; n], vec![0; n]);
-            assert!(pivoting::factor(
-                &live.pattern,
-                &v,
-                &mut f,
-                &mut perm,
-                &mut inv
-            ));
-            let plan = Plan::new(&f, &live, &inv).expect("a plan");
             assert_eq!(plan.ops.len(), f.updates());
             // Every entry overwritten (L's unit diagonal is not computed).
             let mut g = f.clone();
@@ -331,18 +340,7 @@ mod tests {
     #[test]
     #[should_panic(expected = "a matrix without a slot the plan starts from")]
     fn a_matrix_without_the_plans_slots_is_refused() {
-        let mut rng = Lcg::new(5);
-        let (live, v) = corners_matrix(1, &mut rng);
-        let n = live.pattern.dim();
-        let (mut f, mut perm, mut inv) = (Factors::default(), vec![0; n], vec![0; n]);
-        assert!(pivoting::factor(
-            &live.pattern,
-            &v,
-            &mut f,
-            &mut perm,
-            &mut inv
-        ));
-        let plan = Plan::new(&f, &live, &inv).expect("a plan");
+        let (_, v, mut f, _, plan) = factorised(1, &mut Lcg::new(5));
         // Every slot is live, so the last is an entry's start.
         plan.run(&mut f, &v[..v.len() - 1], 1e-4);
     }
@@ -361,16 +359,9 @@ mod tests {
     fn the_columns_chosen_with_the_pivots_factorise_the_matrix() {
         for corners in [1, 2] {
             let mut rng = Lcg::new(29 + corners as u64);
-            let (mut live, v) = corners_matrix(corners, &mut rng);
+            let (mut live, v, amd, _, _) = factorised(corners, &mut rng);
             let n = live.pattern.dim();
-            let (mut amd, mut perm, mut inv) = (Factors::default(), vec![0; n], vec![0; n]);
-            assert!(pivoting::factor(
-                &live.pattern,
-                &v,
-                &mut amd,
-                &mut perm,
-                &mut inv
-            ));
+            let (mut perm, mut inv) = (vec![0; n], vec![0; n]);
             let mut f = Factors::default();
             let order =
                 pivoting::factor_choosing_columns(&live.pattern, &v, &mut f, &mut perm, &mut inv)
