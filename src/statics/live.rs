@@ -110,11 +110,7 @@ impl Live {
         // all of them OR-ed together say so, one vector OR per two slots; the
         // comparison below, a fold of booleans, took five or six
         // instructions a slot and runs only where one is not `+0.0`.
-        let bits = values
-            .iter()
-            .zip(&self.outside)
-            .fold(0u64, |acc, (v, m)| acc | (v.to_bits() & m));
-        if bits == 0 {
+        if self.outside_bits(values) == 0 {
             return true;
         }
         let tol = DROP * largest;
@@ -124,6 +120,23 @@ impl Live {
             let x = f64::from_bits(v.to_bits() & m);
             out | (x.abs() > tol) | x.is_nan()
         })
+    }
+
+    /// The bits of every entry of `values` (in the full pattern's slots)
+    /// outside these slots OR-ed together: zero when all of them are exact
+    /// zeros (`+0.0`), as in every matrix met so far.
+    pub fn outside_bits(&self, values: &[f64]) -> u64 {
+        values
+            .iter()
+            .zip(&self.outside)
+            .fold(0u64, |acc, (v, m)| acc | (v.to_bits() & m))
+    }
+
+    /// The entries of `values` outside these slots set to zero.
+    pub fn clear_outside(&self, values: &mut [f64]) {
+        for (v, m) in values.iter_mut().zip(&self.outside) {
+            *v = f64::from_bits(v.to_bits() & !m);
+        }
     }
 
     /// These slots and the [`significant`](Self::significant) ones of

@@ -25,15 +25,16 @@ const FILL: u32 = u32::MAX;
 pub(crate) struct Plan {
     /// Per entry of the factors in the order they are computed (column by
     /// column, U's then L's below its unit diagonal, each in its array's
-    /// order): the live slot it starts from, or [`FILL`], and how many of
-    /// `ops` it subtracts (they follow the previous entry's: the counts add
-    /// up to `ops`' length, which `run` relies on).
+    /// order): the (live) slot of the full pattern it starts from, or
+    /// [`FILL`], and how many of `ops` it subtracts (they follow the
+    /// previous entry's: the counts add up to `ops`' length, which `run`
+    /// relies on).
     entries: Vec<(u32, u32)>,
     /// The products `(entry of L, entry of U)`, entry by entry in the order
     /// the entries are computed: column by column, U's (rows ascending, the
     /// pivot last), then L's.
     ops: Products,
-    /// One more than the largest live slot an entry starts from: the
+    /// One more than the largest slot an entry starts from: the
     /// matrix's values are checked against it once a refactorisation, not
     /// at every entry.
     values_need: usize,
@@ -47,7 +48,9 @@ impl Plan {
         let p = &live.pattern;
         let n = p.dim();
         let (nu, nl) = (f.u_val.len(), f.l_val.len());
-        let big = (nu + nl).max(p.nnz());
+        // (The entries start from the full pattern's slots, `live.from`.)
+        let slots = live.from.last().map_or(0, |k| k + 1);
+        let big = (nu + nl).max(slots);
         if f.u_ptr.len() != n + 1 || f.l_ptr.len() != n + 1 || big >= FILL as usize {
             return None;
         }
@@ -82,7 +85,7 @@ impl Plan {
                 if e == FILL {
                     return None;
                 }
-                let (e, slot) = (e as usize, k as u32);
+                let (e, slot) = (e as usize, *live.from.get(k)? as u32);
                 if e < nu {
                     u_from[e] = slot;
                 } else {
@@ -153,7 +156,7 @@ impl Plan {
         })
     }
 
-    /// Refactorises the matrix of `values` (in the live slots) into `f`; false if a pivot is zero, not finite, or under `threshold`
+    /// Refactorises the matrix of `values` (in the full pattern's slots: the live ones are read) into `f`; false if a pivot is zero, not finite, or under `threshold`
     /// of the largest entry below it in its column (`f` is then to be
     /// factorised afresh).
     ///

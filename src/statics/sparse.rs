@@ -65,6 +65,13 @@ impl Pivots {
     }
 }
 
+/// The most slots a pattern may have for a refactorisation to copy its
+/// matrix whole ([`SparseLu::gather`]): 8 KiB of values, the matrix and
+/// its copy a half of a 32 KiB first-level data cache, beside the factors
+/// and the plan. Measured (`docs/performance.md`): the McPherson corner's
+/// 828 slots gain by it, two coupled corners' 1 728 lose 2-3 %.
+const WHOLE_COPY_UP_TO: usize = 1024;
+
 pub(crate) struct SparseLu {
     pattern: Arc<Pattern>,
     /// The slots factorised, and the values factorised in them.
@@ -74,9 +81,11 @@ pub(crate) struct SparseLu {
     pub widened: usize,
     row_perm: Vec<usize>,
     row_perm_inv: Vec<usize>,
-    /// The matrix factorised in the pattern's slots: `live_a` in the live
-    /// slots, zero in the others (whose entries [`Live::holds`] bounded by a
-    /// rounding's size; the factors are those of this matrix).
+    /// The matrix factorised in the pattern's slots: its entries in the
+    /// live slots, zero in the others (whose entries [`Live::holds`]
+    /// bounded by a rounding's size; the factors are those of this
+    /// matrix). The refactorisation reads it in place; `live_a` holds its
+    /// live entries in the live slots' order for a fresh elimination.
     a: Vec<f64>,
     /// Largest absolute entry of the matrix factorised.
     a_max: f64,
@@ -186,8 +195,9 @@ impl SparseLu {
         self.scale.set(None);
         // The largest live entry is the matrix's largest when the other
         // entries are at most `DROP` times it, which is what `holds` asks.
-        self.a_max = self.gather(values);
-        if !self.live.holds(values, self.a_max) {
+        let clean;
+        (self.a_max, clean) = self.gather(values);
+        if !clean && !self.live.holds(values, self.a_max) {
             let Some(live) = self.live.widened(&self.pattern, values) else {
                 return false;
             };
@@ -195,16 +205,19 @@ impl SparseLu {
             self.live_a.resize(self.live.from.len(), 0.0);
             self.reusable = false;
             self.widened += 1;
-            self.a_max = self.gather(values);
+            (self.a_max, _) = self.gather(values);
         }
-        self.last_reused =
-            self.reusable && self.plan.run(&mut self.own, &self.live_a, PIVOT_THRESHOLD);
+        self.last_reused = self.reusable && self.plan.run(&mut self.own, &self.a, PIVOT_THRESHOLD);
         if self.last_reused {
             self.reused += 1;
             self.valid = true;
             return true;
         }
         self.fresh += 1;
+        // (The elimination takes the live entries in the live slots' order.)
+        for (v, &k) in self.live_a.iter_mut().zip(&self.live.from) {
+            *v = self.a[k];
+        }
         let ok = self.factor_fresh(choose_columns);
         let plan = ok
             .then(|| Plan::new(&self.own, &self.live, &self.row_perm_inv))
@@ -233,16 +246,34 @@ impl SparseLu {
         Some(self.factor(values))
     }
 
-    /// The live entries of `values` into `live_a` and `a`; their largest
-    /// magnitude (a NaN passed over, as by `f64::max`).
-    fn gather(&mut self, values: &[f64]) -> f64 {
+    /// `values` into `a`, zero outside the live slots, and the largest
+    /// live entry; whether `values` is known to be zero outside them.
+    ///
+    /// A pattern up to [`WHOLE_COPY_UP_TO`] slots is copied whole, its
+    /// other slots checked by their bits in one pass (zero in every matrix
+    /// met so far) and zeroed only where one is not: the copy and its
+    /// passes stay in the first-level cache, and an indexed copy of the
+    /// live entries, one load and two stores an entry, took a seventh of a
+    /// McPherson refactorisation. A larger one has its live entries copied
+    /// by index, into `live_a` too (their largest in lanes), and leaves the
+    /// check to [`Live::holds`]: passes over all its slots cost the car and
+    /// eight coupled corners more than the copy saved (`docs/performance.md`).
+    fn gather(&mut self, values: &[f64]) -> (f64, bool) {
+        if self.a.len() <= WHOLE_COPY_UP_TO {
+            self.a.copy_from_slice(values);
+            let clean = self.live.outside_bits(&self.a) == 0;
+            if !clean {
+                self.live.clear_outside(&mut self.a);
+            }
+            return (largest(&self.a), clean);
+        }
         for (v, &k) in self.live_a.iter_mut().zip(&self.live.from) {
             let x = values[k];
             *v = x;
             self.a[k] = x;
         }
         // In lanes: a running maximum is a chain of dependent steps.
-        largest(&self.live_a)
+        (largest(&self.live_a), false)
     }
 
     /// [`Self::factor`] with fresh pivots whose columns are chosen with

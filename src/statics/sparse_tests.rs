@@ -326,12 +326,27 @@ fn the_fill_of_coupled_corners_grows_with_their_number() {
     }
 }
 
+/// One and two coupled corners: their patterns lie either side of
+/// [`WHOLE_COPY_UP_TO`], so a test over both takes both of a
+/// refactorisation's copies of the matrix (`SparseLu::gather`).
+fn either_copy() -> [usize; 2] {
+    assert!(pattern(1).1.nnz() <= WHOLE_COPY_UP_TO && pattern(2).1.nnz() > WHOLE_COPY_UP_TO);
+    [1, 2]
+}
+
 /// A matrix with a non-zero outside the slots the factors cover widens
 /// them (once, in their column order) and is solved as the dense LU solves
-/// it; a matrix inside is solved on the narrower slots.
+/// it; a matrix inside is solved on the narrower slots (one corner and
+/// two: the matrix copied whole and by its live entries).
 #[test]
 fn a_non_zero_outside_the_live_slots_widens_them() {
-    let (p, pat) = pattern(1);
+    for corners in either_copy() {
+        widens(corners);
+    }
+}
+
+fn widens(corners: usize) {
+    let (p, pat) = pattern(corners);
     let v = values(&pat, p.layout.n(), 21);
     // Every fifth slot off the diagonal left out.
     let mut keep: Vec<bool> = (0..pat.nnz()).map(|k| k % 5 != 0).collect();
@@ -380,10 +395,17 @@ fn a_non_zero_outside_the_live_slots_widens_them() {
 /// times its largest and a number: exact zeros (the quick check of the
 /// entries' bits), a negative zero and a rounding-sized entry (the
 /// comparison they fall through to) hold; an entry past the limit, a NaN or
-/// an infinity does not, in any dead slot.
+/// an infinity does not, in any dead slot. (One corner and two: the matrix
+/// copied whole and by its live entries.)
 #[test]
 fn the_slots_outside_hold_zeros_and_roundings_only() {
-    let (p, pat) = pattern(1);
+    for corners in either_copy() {
+        holds_roundings(corners);
+    }
+}
+
+fn holds_roundings(corners: usize) {
+    let (p, pat) = pattern(corners);
     let v = values(&pat, p.layout.n(), 21);
     let keep: Vec<bool> = (0..pat.nnz()).map(|k| k % 5 != 0).collect();
     let narrow = Live::ordered(&pat, &keep, ColumnOrder::Amd).expect("order");
