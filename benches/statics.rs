@@ -109,11 +109,8 @@ fn main() {
     // same cases.
     if let Ok(path) = std::env::var("AXLE_BENCH_LOADS") {
         let text = std::fs::read_to_string(&path).expect("the loads file reads");
-        let (mut m, _) = mcpherson("thesis_table_5_1");
-        let loads = axle::data::loads::read(&text, "peer", &m).expect("a loads CSV");
-        let cases = loads.cases.len();
-        m.load_sets.push(loads);
-        let set = LoadSetId(m.load_sets.len() as u32 - 1);
+        let (m, set) = mcpherson_with_loads(&text, "peer");
+        let cases = m.load_sets[set.0 as usize].cases.len();
         let p = Problem::new(&m).expect("problem");
         let (median, mean) = case_times(&p, set, &m, 21);
         println!(
@@ -123,7 +120,7 @@ fn main() {
     divan::main();
 }
 
-/// The random path's cases each timed on its own, as Exudyn's script
+/// A path's cases each timed on its own, as Exudyn's script
 /// times its cases (`../shared/peers/exudyn`, the median over the cases of
 /// one run): per run, the median and the mean case over the path (the first
 /// case, from design with a fresh solver, is one of them), and of each the
@@ -143,7 +140,7 @@ fn case_times(p: &Problem, set: LoadSetId, m: &Model, runs: usize) -> (f64, f64)
             at = now;
             std::ops::ControlFlow::Continue(())
         });
-        assert!(run.failure.is_none(), "the random path solves");
+        assert!(run.failure.is_none(), "the path solves");
         means.push(times.iter().sum::<f64>() / times.len() as f64);
         medians.push(median(&mut times));
     }
@@ -348,7 +345,6 @@ fn coupled_corners_table_5_1_warm(b: Bencher, n: usize) {
 /// fz 2000-7000 N, fx and fy within ±2500 N, a random walk with steps of at
 /// most 1500 N, fixed xorshift seed) added to the model as a load set.
 fn random_path(n: usize) -> (Model, LoadSetId) {
-    let (mut m, _) = mcpherson("thesis_table_5_1");
     let mut s = 0x2545_F491_4F6C_DD1Du64;
     let mut uniform = || {
         s ^= s << 13;
@@ -369,7 +365,14 @@ fn random_path(n: usize) -> (Model, LoadSetId) {
         }
         csv += &format!("{},{},{},{}\n", k + 1, x[0], x[1], x[2]);
     }
-    let set = axle::data::loads::read(&csv, "random", &m).expect("loads csv");
+    mcpherson_with_loads(&csv, "random")
+}
+
+/// The McPherson example with the loads CSV `csv` (`interfaces.md`) as its
+/// load set `name`.
+fn mcpherson_with_loads(csv: &str, name: &str) -> (Model, LoadSetId) {
+    let (mut m, _) = mcpherson("thesis_table_5_1");
+    let set = axle::data::loads::read(csv, name, &m).expect("loads csv");
     m.load_sets.push(set);
     let id = LoadSetId(m.load_sets.len() as u32 - 1);
     (m, id)

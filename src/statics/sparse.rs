@@ -69,7 +69,7 @@ impl Pivots {
 /// matrix whole ([`SparseLu::gather`]): 8 KiB of values, the matrix and
 /// its copy a half of a 32 KiB first-level data cache, beside the factors
 /// and the plan. Measured (`docs/performance.md`): the McPherson corner's
-/// 828 slots gain by it, two coupled corners' 1 728 lose 2-3 %.
+/// 828 slots gain by it, two coupled corners' 1 728 lose 1-3 %.
 const WHOLE_COPY_UP_TO: usize = 1024;
 
 pub(crate) struct SparseLu {
@@ -256,8 +256,9 @@ impl SparseLu {
     /// live entries, one load and two stores an entry, took a seventh of a
     /// McPherson refactorisation. A larger one has its live entries copied
     /// by index, into `live_a` too (their largest in lanes), and leaves the
-    /// check to [`Live::holds`]: passes over all its slots cost the car and
-    /// eight coupled corners more than the copy saved (`docs/performance.md`).
+    /// check to [`Live::holds`]: copied whole, two and eight coupled corners
+    /// and the car lost 1-3 %, though their share of live slots is the
+    /// corner's; the copy's size decides (`docs/performance.md`).
     fn gather(&mut self, values: &[f64]) -> (f64, bool) {
         if self.a.len() <= WHOLE_COPY_UP_TO {
             self.a.copy_from_slice(values);

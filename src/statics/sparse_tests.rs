@@ -334,6 +334,14 @@ fn either_copy() -> [usize; 2] {
     [1, 2]
 }
 
+/// `v` with the slots `keep` does not hold set to zero.
+fn zeroed_outside(v: &[f64], keep: &[bool]) -> Vec<f64> {
+    v.iter()
+        .zip(keep)
+        .map(|(x, k)| if *k { *x } else { 0.0 })
+        .collect()
+}
+
 /// A matrix with a non-zero outside the slots the factors cover widens
 /// them (once, in their column order) and is solved as the dense LU solves
 /// it; a matrix inside is solved on the narrower slots (one corner and
@@ -358,11 +366,7 @@ fn widens(corners: usize) {
     let narrow = Live::ordered(&pat, &keep, ColumnOrder::Amd).expect("order");
     let order = narrow.pattern.order.clone();
     assert!(narrow.count().0 < pat.nnz());
-    let inside: Vec<f64> = v
-        .iter()
-        .zip(&keep)
-        .map(|(x, k)| if *k { *x } else { 0.0 })
-        .collect();
+    let inside = zeroed_outside(&v, &keep);
     let b: Vec<f64> = (0..pat.dim()).map(|i| (i as f64 * 0.61).cos()).collect();
     let check = |s: &mut SparseLu, vals: &[f64]| {
         let mut d = Lu::new(pat.dim(), p.layout.n());
@@ -409,11 +413,7 @@ fn holds_roundings(corners: usize) {
     let v = values(&pat, p.layout.n(), 21);
     let keep: Vec<bool> = (0..pat.nnz()).map(|k| k % 5 != 0).collect();
     let narrow = Live::ordered(&pat, &keep, ColumnOrder::Amd).expect("order");
-    let inside: Vec<f64> = v
-        .iter()
-        .zip(&keep)
-        .map(|(x, k)| if *k { *x } else { 0.0 })
-        .collect();
+    let inside = zeroed_outside(&v, &keep);
     let big = largest(&inside);
     assert!(narrow.holds(&inside, big));
     let dead: Vec<usize> = (0..pat.nnz()).filter(|&k| !keep[k]).collect();
