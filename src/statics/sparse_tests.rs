@@ -334,6 +334,15 @@ fn either_copy() -> [usize; 2] {
     [1, 2]
 }
 
+/// `corners`' pattern, values on it (seed 21), and every slot but every
+/// fifth kept.
+fn every_fifth_left_out(corners: usize) -> (Problem, Arc<Pattern>, Vec<f64>, Vec<bool>) {
+    let (p, pat) = pattern(corners);
+    let v = values(&pat, p.layout.n(), 21);
+    let keep = (0..pat.nnz()).map(|k| k % 5 != 0).collect();
+    (p, pat, v, keep)
+}
+
 /// `v` with the slots `keep` does not hold set to zero.
 fn zeroed_outside(v: &[f64], keep: &[bool]) -> Vec<f64> {
     v.iter()
@@ -348,16 +357,12 @@ fn zeroed_outside(v: &[f64], keep: &[bool]) -> Vec<f64> {
 /// two: the matrix copied whole and by its live entries).
 #[test]
 fn a_non_zero_outside_the_live_slots_widens_them() {
-    for corners in either_copy() {
-        widens(corners);
-    }
+    either_copy().into_iter().for_each(widens);
 }
 
 fn widens(corners: usize) {
-    let (p, pat) = pattern(corners);
-    let v = values(&pat, p.layout.n(), 21);
     // Every fifth slot off the diagonal left out.
-    let mut keep: Vec<bool> = (0..pat.nnz()).map(|k| k % 5 != 0).collect();
+    let (p, pat, v, mut keep) = every_fifth_left_out(corners);
     for j in 0..pat.dim() {
         if let Some(k) = pat.slot(j, j) {
             keep[k] = true;
@@ -403,15 +408,11 @@ fn widens(corners: usize) {
 /// copied whole and by its live entries.)
 #[test]
 fn the_slots_outside_hold_zeros_and_roundings_only() {
-    for corners in either_copy() {
-        holds_roundings(corners);
-    }
+    either_copy().into_iter().for_each(holds_roundings);
 }
 
 fn holds_roundings(corners: usize) {
-    let (p, pat) = pattern(corners);
-    let v = values(&pat, p.layout.n(), 21);
-    let keep: Vec<bool> = (0..pat.nnz()).map(|k| k % 5 != 0).collect();
+    let (_, pat, v, keep) = every_fifth_left_out(corners);
     let narrow = Live::ordered(&pat, &keep, ColumnOrder::Amd).expect("order");
     let inside = zeroed_outside(&v, &keep);
     let big = largest(&inside);
