@@ -243,11 +243,14 @@ pub(crate) fn newton(
             }
             return Ok(it);
         }
-        for i in 0..n {
-            sv.b[i] = -sv.ws.r[i];
+        // (By slices: indexed, each store made the next load re-read the
+        // vectors' pointers and lengths.)
+        let (bq, bl) = sv.b.split_at_mut(n);
+        for (b, r) in bq.iter_mut().zip(&sv.ws.r) {
+            *b = -r;
         }
-        for k in 0..m {
-            sv.b[n + k] = -sv.ws.phi[k];
+        for (b, phi) in bl.iter_mut().zip(&sv.ws.phi) {
+            *b = -phi;
         }
         sv.x.copy_from_slice(&sv.b);
         // A step with the factorisation at hand (at the start of a solve, the
@@ -408,17 +411,18 @@ fn line_search(
     sv: &mut Solver,
     tangent: bool,
 ) -> bool {
-    let (n, m) = (p.layout.n(), p.kept.len());
+    let n = p.layout.n();
     let m0 = sv.ws.merit(p, force);
     let mut alpha = 1.0;
     for _ in 0..12 {
         sv.trial.clone_from(st);
-        for i in 0..n {
-            sv.dq[i] = alpha * sv.x[i] * sv.ws.scale[i];
+        let (xq, xl) = sv.x.split_at(n);
+        for ((d, x), s) in sv.dq.iter_mut().zip(xq).zip(&sv.ws.scale) {
+            *d = alpha * x * s;
         }
         sv.trial.apply(&p.layout, &sv.dq);
-        for k in 0..m {
-            sv.trial.lambda[k] += alpha * sv.x[n + k] / sv.ws.row_scale[k];
+        for ((l, x), s) in sv.trial.lambda.iter_mut().zip(xl).zip(&sv.ws.row_scale) {
+            *l += alpha * x / s;
         }
         if sv.correct {
             sv.extrapolation.correct(&p.layout, &mut sv.trial, alpha);
