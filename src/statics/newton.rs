@@ -63,10 +63,11 @@ const CHORD_WITHIN: f64 = 1e3;
 /// all) are evaluated again with their matrix. A skipped matrix saves
 /// about an evaluation's half (1.0 of 2.1 µs) where a chord follows and
 /// costs a residual evaluation (1.1 µs) where none does, so the band is
-/// where chords outnumber the others, decade by decade of the prediction
-/// on that path: below 0.03 the converged iterates do (20 to 11 from 0.01),
-/// from 10 to 30 chords still do (21 to 6), from 30 to 100 they are even
-/// (14 to 12); the band was 0.01 to 10 until measured so.
+/// where chords outnumber the others, by the prediction's decades on
+/// that path: from 0.01 to 0.03, 20 iterates converged against 11
+/// chords; from 10 to 30, 21 chords against 6 fresh steps; from 30 to
+/// 100, 14 against 12 (`docs/performance.md`, twenty-sixth session). The
+/// band was 0.01 to 10 until measured so.
 const MATRIX_SKIPPED: std::ops::Range<f64> = 0.03..30.0;
 
 /// The part of the start state's residual not yet released: `(1 - s)` times the
@@ -423,6 +424,9 @@ fn line_search(
     for _ in 0..12 {
         sv.trial.clone_from(st);
         let (xq, xl) = sv.x.split_at(n);
+        // (The zips below stop at the shortest: every multiplier has its
+        // entry, `newton` sizes them on entry.)
+        debug_assert_eq!(sv.trial.lambda.len(), xl.len());
         for ((d, x), s) in sv.dq.iter_mut().zip(xq).zip(&sv.ws.scale) {
             *d = alpha * x * s;
         }
