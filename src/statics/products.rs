@@ -165,14 +165,15 @@ impl<X: Values + ?Sized, Y: Values + ?Sized> Sweep<'_, X, Y> {
     /// Panics if fewer than `count` pairs remain.
     #[inline]
     pub fn subtract_next(&mut self, acc: f64, count: usize) -> f64 {
-        let (now, rest) = self.pairs.split_at(count);
-        self.pairs = rest;
-        self.subtract(acc, now)
+        assert!(count <= self.pairs.len(), "fewer pairs left than asked for");
+        // SAFETY: checked above.
+        unsafe { self.subtract_next_unchecked(acc, count) }
     }
 
     /// [`Self::subtract_next`] without checking that `count` pairs remain
     /// (a refactorisation's entries take every pair once, by counts fixed
-    /// with its plan: two instructions an entry saved).
+    /// with its plan: two instructions an entry saved); the checked one is
+    /// this after its check.
     ///
     /// # Safety
     /// At least `count` pairs remain.
