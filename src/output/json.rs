@@ -79,8 +79,13 @@ impl Default for Json {
 
 impl Json {
     pub fn new() -> Json {
+        Json::with_capacity(0)
+    }
+
+    /// An empty document whose text grows into `bytes` before it reallocates.
+    pub fn with_capacity(bytes: usize) -> Json {
         Json {
-            out: Vec::new(),
+            out: Vec::with_capacity(bytes),
             open: Vec::with_capacity(8),
             after_key: false,
             mode: Mode::Write,

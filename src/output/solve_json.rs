@@ -170,7 +170,12 @@ impl Default for SolveDocument {
 impl SolveDocument {
     /// The document up to its first case.
     pub fn new() -> SolveDocument {
-        let mut w = Json::new();
+        SolveDocument::with_capacity(0)
+    }
+
+    /// As [`Self::new`], its text growing into `bytes` before it reallocates.
+    pub fn with_capacity(bytes: usize) -> SolveDocument {
+        let mut w = Json::with_capacity(bytes);
         w.begin_object();
         w.key("cases").begin_array();
         SolveDocument {
