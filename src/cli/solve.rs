@@ -141,9 +141,10 @@ fn stream_json(
     let ls = &model.load_sets[set.index()];
     let reporter = Reporter::new(model);
     // Room for a piece and the case that fills it (a McPherson case is 7
-    // kB): grown from empty, the text doubled five times up to 128 kB, each
-    // copy into pages not touched before (38 of the 390 page faults of the
-    // 500-case run, at about 2 µs each on a virtual machine).
+    // kB). Grown from empty, the text was copied at each doubling up to 128
+    // KiB, the larger copies into pages not touched before: 35-40 of the
+    // 500-case run's 390 page faults, at about 2 µs each on a virtual
+    // machine (`docs/performance.md`).
     let mut doc = SolveDocument::with_capacity(JSON_PIECE + JSON_PIECE / 4);
     let mut warnings = warning::PathWarnings::new(model);
     // The first write error, which stops the path (`axle solve … | head`
