@@ -34,6 +34,7 @@ loads="$peer/loads/random_500.csv"
 py=${PYTHON:-$peer/.venv/bin/python}
 [ -x "$py" ] || py=python3
 
+echo "building axle and the statics bench (minutes on a fresh clone) ..." >&2
 cargo build --release --locked --quiet
 bench=$(cargo bench --bench statics --no-run --locked --message-format=json 2>/dev/null |
     sed -n 's/.*"executable":"\([^"]*statics-[^"]*\)".*/\1/p' | tail -n 1)
