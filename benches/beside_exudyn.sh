@@ -15,7 +15,9 @@
 #   and their ratio;
 # - the whole process: CPU time of Exudyn's run (start-up, build and the
 #   path) and of `axle solve examples/mcpherson.axle --loads CSV --format
-#   json`, medians of 3 and of 20 runs, and their ratio.
+#   json`, medians of 3 and of 20 runs, and their ratio;
+#
+# then the rounds' median ratios.
 #
 # Only ratios measured side by side carry over from one machine to another.
 set -euo pipefail
@@ -71,6 +73,8 @@ axle_case() {
         sed -n 's/.*(500 cases) per case.*median case \([0-9.]*\) µs.*/\1/p'
 }
 
+rows=$(mktemp)
+trap 'rm -f "$rows"' EXIT
 echo "machine: $(nproc) CPUs, $(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -n 1)"
 echo "round | Exudyn a case (ms) | axle a case (µs) | ratio | Exudyn process (ms) | axle process (ms) | ratio"
 for r in $(seq 1 "$rounds"); do
@@ -88,4 +92,7 @@ for r in $(seq 1 "$rounds"); do
     ax_proc=$(for _ in $(seq 1 20); do cpu_ms target/release/axle solve examples/mcpherson.axle --loads "$loads" --format json; done | median)
     awk -v r="$r" -v e="$exu" -v a="$ax" -v ep="$exu_proc" -v ap="$ax_proc" \
         'BEGIN {printf "%d | %.4f | %.2f | %.1f | %.0f | %.2f | %.1f\n", r, e, a, 1000 * e / a, ep, ap, ep / ap}'
-done
+done | tee "$rows"
+# The rounds' median ratios: a slow spell on one side moves one round, not these.
+awk -F' [|] ' '{print $4}' "$rows" | median | awk '{printf "median ratio a case: %.1f\n", $1}'
+awk -F' [|] ' '{print $7}' "$rows" | median | awk '{printf "median ratio whole process: %.1f\n", $1}'
