@@ -353,14 +353,7 @@ pub(crate) fn newton(
             if kink_step && !super::friction::near_limit(&p.model, &p.layout, st).is_empty() {
                 kink_step = false;
                 sv.extrapolation.abandon();
-                sv.trial.clone_from(st);
-                for i in 0..n {
-                    sv.dq[i] = sv.x[i] * sv.ws.scale[i];
-                }
-                sv.trial.apply(&p.layout, &sv.dq);
-                for k in 0..m {
-                    sv.trial.lambda[k] += sv.x[n + k] / sv.ws.row_scale[k];
-                }
+                trial_step(p, st, sv, 1.0);
                 if sv.ws.eval(p, &sv.trial, loads, true).is_ok() {
                     sv.ws.release(homotopy);
                     std::mem::swap(st, &mut sv.trial);
@@ -405,6 +398,26 @@ fn record_step(p: &Problem, st: &State, sv: &mut Solver) {
         .record(&p.layout, &sv.trial, sv.dq.as_slice(), dl);
 }
 
+/// `sv.trial` = `st` moved by `alpha` times the step `sv.x` (unscaled into
+/// `sv.dq` for the coordinates, by the rows' scales for the multipliers):
+/// each line-search trial's, and the whole step a friction kink takes.
+/// (By slices: indexed, each store made the next load re-read the vectors'
+/// pointers and lengths.)
+fn trial_step(p: &Problem, st: &State, sv: &mut Solver, alpha: f64) {
+    sv.trial.clone_from(st);
+    let (xq, xl) = sv.x.split_at(p.layout.n());
+    // (The zips below stop at the shortest: every multiplier has its
+    // entry, `newton` sizes them on entry.)
+    debug_assert_eq!(sv.trial.lambda.len(), xl.len());
+    for ((d, x), s) in sv.dq.iter_mut().zip(xq).zip(&sv.ws.scale) {
+        *d = alpha * x * s;
+    }
+    sv.trial.apply(&p.layout, &sv.dq);
+    for ((l, x), s) in sv.trial.lambda.iter_mut().zip(xl).zip(&sv.ws.row_scale) {
+        *l += alpha * x / s;
+    }
+}
+
 /// Backtracking from the step `sv.x` until the merit decreases (Armijo); on
 /// success `st` is the new state and `sv.ws` holds its evaluation (with its
 /// Newton matrix when `tangent`), otherwise `st` is unchanged and `sv.ws`
@@ -418,22 +431,10 @@ fn line_search(
     sv: &mut Solver,
     tangent: bool,
 ) -> bool {
-    let n = p.layout.n();
     let m0 = sv.ws.merit(p, force);
     let mut alpha = 1.0;
     for _ in 0..12 {
-        sv.trial.clone_from(st);
-        let (xq, xl) = sv.x.split_at(n);
-        // (The zips below stop at the shortest: every multiplier has its
-        // entry, `newton` sizes them on entry.)
-        debug_assert_eq!(sv.trial.lambda.len(), xl.len());
-        for ((d, x), s) in sv.dq.iter_mut().zip(xq).zip(&sv.ws.scale) {
-            *d = alpha * x * s;
-        }
-        sv.trial.apply(&p.layout, &sv.dq);
-        for ((l, x), s) in sv.trial.lambda.iter_mut().zip(xl).zip(&sv.ws.row_scale) {
-            *l += alpha * x / s;
-        }
+        trial_step(p, st, sv, alpha);
         if sv.correct {
             sv.extrapolation.correct(&p.layout, &mut sv.trial, alpha);
         }
