@@ -14,6 +14,8 @@
 pub mod assembly;
 pub mod batch;
 pub mod blocks;
+#[cfg(all(target_arch = "x86_64", unix))]
+mod compiled;
 pub mod compliance;
 mod condition;
 pub mod constraint;
@@ -42,6 +44,8 @@ mod tangent;
 #[cfg(test)]
 pub(crate) mod testkit;
 pub mod wrench;
+#[cfg(all(target_arch = "x86_64", unix))]
+mod x86;
 
 pub use compliance::{StoppingError, compliance, compliances, stopping_error};
 pub use coords::State;

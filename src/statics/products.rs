@@ -34,6 +34,11 @@ impl Products {
         Products { pairs, need }
     }
 
+    /// The pairs, in order.
+    pub fn pairs(&self) -> &[(u32, u32)] {
+        &self.pairs
+    }
+
     #[cfg(test)]
     pub fn len(&self) -> usize {
         self.pairs.len()

@@ -13,6 +13,8 @@
 //! mostly spent in those, and in the chains of dependent loads and stores
 //! through the dense vector (`docs/performance.md`).
 
+#[cfg(all(target_arch = "x86_64", unix))]
+use super::compiled::{CompiledPlan, Structure, Tiered};
 use super::live::Live;
 use super::pivoting::Factors;
 use super::products::Products;
@@ -21,7 +23,7 @@ use super::products::Products;
 const FILL: u32 = u32::MAX;
 
 /// The products of a refactorisation for one structure of L and U.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Default)]
 pub(crate) struct Plan {
     /// Per entry of the factors in the order they are computed (column by
     /// column, U's then L's below its unit diagonal, each in its array's
@@ -38,6 +40,10 @@ pub(crate) struct Plan {
     /// matrix's values are checked against it once a refactorisation, not
     /// at every entry.
     values_need: usize,
+    /// The plan as machine code, once it has run enough times (shared by
+    /// the solvers that share the plan).
+    #[cfg(all(target_arch = "x86_64", unix))]
+    compiled: Tiered<CompiledPlan>,
 }
 
 impl Plan {
@@ -153,6 +159,7 @@ impl Plan {
             entries,
             ops: Products::new(ops),
             values_need,
+            ..Plan::default()
         })
     }
 
@@ -163,6 +170,33 @@ impl Plan {
     /// Panics if `f` does not hold the structure the plan was made for (as
     /// many entries), or `values` lacks a slot the plan starts from.
     pub fn run(&self, f: &mut Factors, values: &[f64], threshold: f64) -> bool {
+        #[cfg(all(target_arch = "x86_64", unix))]
+        if let Some(code) = self.compiled.get(|| self.compiled_for(f)) {
+            assert_eq!(
+                self.entries.len() + f.u_inv.len(),
+                f.u_val.len() + f.l_val.len(),
+                "a plan for other factors"
+            );
+            return code.run(values, &mut f.l_val, &mut f.u_val, &mut f.u_inv, threshold);
+        }
+        self.run_as_loop(f, values, threshold)
+    }
+
+    /// The plan compiled for the structure of `f` (None: too large, or the
+    /// system gives no executable memory).
+    #[cfg(all(target_arch = "x86_64", unix))]
+    fn compiled_for(&self, f: &Factors) -> Option<CompiledPlan> {
+        CompiledPlan::new(&Structure {
+            u_ptr: &f.u_ptr,
+            l_ptr: &f.l_ptr,
+            entries: &self.entries,
+            products: self.ops.pairs(),
+            fill: FILL,
+        })
+    }
+
+    /// [`Self::run`] as a loop over the plan's entries and products.
+    pub fn run_as_loop(&self, f: &mut Factors, values: &[f64], threshold: f64) -> bool {
         let Factors {
             l_ptr,
             l_val,
@@ -335,6 +369,92 @@ mod tests {
             // A pivot under the threshold is refused.
             assert!(!plan.run(&mut g, &w, 1e6));
         }
+    }
+
+    /// [`corners_matrix`] factorised choosing its columns with its pivots,
+    /// as the solver's seed is (fewer products than in the pattern's
+    /// order), and the plan of its factors.
+    #[cfg(all(target_arch = "x86_64", unix))]
+    fn factorised_choosing_columns(corners: usize, rng: &mut Lcg) -> (Vec<f64>, Factors, Plan) {
+        let (mut live, v) = corners_matrix(corners, rng);
+        let n = live.pattern.dim();
+        let (mut f, mut perm, mut inv) = (Factors::default(), vec![0; n], vec![0; n]);
+        let order =
+            pivoting::factor_choosing_columns(&live.pattern, &v, &mut f, &mut perm, &mut inv)
+                .expect("factors");
+        live.pattern.set_order(order);
+        let plan = Plan::new(&f, &live, &inv).expect("a plan");
+        (v, f, plan)
+    }
+
+    /// Whether two factorisations hold the same bits (NaNs included).
+    #[cfg(all(target_arch = "x86_64", unix))]
+    fn same_bits(a: &Factors, b: &Factors) -> bool {
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        bits(&a.l_val) == bits(&b.l_val)
+            && bits(&a.u_val) == bits(&b.u_val)
+            && bits(&a.u_inv) == bits(&b.u_inv)
+    }
+
+    /// The plan compiled to machine code computes the loop's factors to the
+    /// bit, on the McPherson's whole KKT pattern: for the matrix the
+    /// elimination factorised and for others near it; and where a pivot is
+    /// refused (a threshold no pivot meets, a matrix of zeros, a NaN or an
+    /// infinity in a slot) it refuses too, having written what the loop
+    /// wrote up to that column, no more. The plans of two coupled corners
+    /// (7 231 products, over [`MAX_PRODUCTS`]: 3 366 for one) are not compiled.
+    #[cfg(all(target_arch = "x86_64", unix))]
+    #[test]
+    fn the_compiled_plan_is_the_loop_to_the_bit() {
+        use crate::statics::compiled::MAX_PRODUCTS;
+        let mut rng = Lcg::new(41);
+        let (v, f, plan) = factorised_choosing_columns(1, &mut rng);
+        assert!(plan.ops.len() <= MAX_PRODUCTS);
+        let code = plan.compiled_for(&f).expect("a compiled plan");
+        let run_both = |w: &[f64], threshold: f64| {
+            let (mut by_loop, mut by_code) = (f.clone(), f.clone());
+            let looped = plan.run_as_loop(&mut by_loop, w, threshold);
+            let g = &mut by_code;
+            let coded = code.run(w, &mut g.l_val, &mut g.u_val, &mut g.u_inv, threshold);
+            assert_eq!(looped, coded, "refused by one, not the other");
+            assert!(same_bits(&by_loop, &by_code), "other bits");
+            looped
+        };
+        assert!(run_both(&v, 1e-4));
+        for _ in 0..8 {
+            let w: Vec<f64> = v.iter().map(|x| x * (1.0 + 0.1 * rng.next())).collect();
+            assert!(run_both(&w, 1e-4));
+        }
+        assert!(!run_both(&v, 1e6));
+        assert!(!run_both(&vec![0.0; v.len()], 1e-4));
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            // Early, midway, and in the last columns' slots.
+            for k in [0, v.len() / 2, v.len() - 1] {
+                let mut w = v.clone();
+                w[k] = bad;
+                run_both(&w, 1e-4);
+            }
+        }
+        let (_, f2, plan2) = factorised_choosing_columns(2, &mut Lcg::new(43));
+        assert!(plan2.ops.len() > MAX_PRODUCTS);
+        assert!(plan2.compiled_for(&f2).is_none());
+    }
+
+    /// A plan runs as the loop until its
+    /// [`COMPILE_AFTER`](crate::statics::compiled::COMPILE_AFTER)th run, then as
+    /// compiled code, with the same factors either way.
+    #[cfg(all(target_arch = "x86_64", unix))]
+    #[test]
+    fn a_plan_is_compiled_after_its_first_runs() {
+        let (v, f, plan) = factorised_choosing_columns(1, &mut Lcg::new(47));
+        let mut g = f.clone();
+        for run in 0..=crate::statics::compiled::COMPILE_AFTER {
+            assert!(!plan.compiled.is_compiled(), "compiled before run {run}");
+            assert!(plan.run(&mut g, &v, 1e-4));
+        }
+        assert!(plan.compiled.is_compiled());
+        assert!(plan.run(&mut g, &v, 1e-4));
+        assert!(same_bits(&g, &f));
     }
 
     /// A matrix shorter than the slots the plan starts from is refused
