@@ -300,3 +300,181 @@ impl CompiledPlan {
         }
     }
 }
+
+/// The two substitutions of a solve ([`super::sparse::SparseLu::solve`])
+/// as machine code: `L y' = y` row by row from the first, then `U z = y'`
+/// from the last, each row's products in [`super::pivoting::Rows`]' order
+/// (the loop's bits), and the arrays' least lengths.
+#[derive(Debug)]
+pub(crate) struct CompiledSubstitution {
+    code: Executable,
+    rows: usize,
+    y_need: usize,
+    l_need: usize,
+    u_need: usize,
+}
+
+/// The generated substitution's arguments (System V): the vector solved in
+/// place, L's and U's values, the pivots' reciprocals.
+const Y: Base = Base::Rdi;
+const L_VALUES: Base = Base::Rsi;
+const U_VALUES: Base = Base::Rdx;
+const INVERSES: Base = Base::Rcx;
+
+impl CompiledSubstitution {
+    /// The substitutions of `rows` (L's rows' entries `(column, index into
+    /// l_val)` at `l[l_ptr[i]..l_ptr[i + 1]]`, U's likewise) as code; None
+    /// if they have more than [`MAX_PRODUCTS`] products, a row's range is
+    /// not in its entries, an index is too large, or the system gives no
+    /// executable memory.
+    pub fn new(
+        l_ptr: &[usize],
+        l: &[(u32, u32)],
+        u_ptr: &[usize],
+        u: &[(u32, u32)],
+    ) -> Option<CompiledSubstitution> {
+        if l.len() + u.len() > MAX_PRODUCTS || l_ptr.len() != u_ptr.len() {
+            return None;
+        }
+        let rows = l_ptr.len().checked_sub(1)?;
+        // 20 bytes a product, 24 a row (its load, store and scaling), and
+        // 16 for the last instruction's scratch ([`Asm`]).
+        let bound = (l.len() + u.len()) * 20 + 2 * rows * 24 + 64;
+        let mut pages = Writable::new(bound)?;
+        let mut a = Asm::new(pages.bytes());
+        let (mut y_need, mut l_need, mut u_need) = (rows, 0, 0);
+        let mut row = |a: &mut Asm, i: usize, pairs: &[(u32, u32)], values: Base| {
+            a.mem(Op::Load, SUM, Y, i);
+            for &(c, e) in pairs {
+                let (c, e) = (c as usize, e as usize);
+                y_need = y_need.max(c + 1);
+                let need = if values == L_VALUES {
+                    &mut l_need
+                } else {
+                    &mut u_need
+                };
+                *need = (*need).max(e + 1);
+                a.mem(Op::Load, PRODUCT, Y, c);
+                a.mem(Op::Mul, PRODUCT, values, e);
+                a.reg(Op::Sub, SUM, PRODUCT);
+            }
+        };
+        for i in 0..rows {
+            let pairs = l.get(l_ptr[i]..l_ptr[i + 1])?;
+            // (A row of L without entries leaves y's entry as it is.)
+            if !pairs.is_empty() {
+                row(&mut a, i, pairs, L_VALUES);
+                a.store(SUM, Y, i);
+            }
+        }
+        for i in (0..rows).rev() {
+            row(&mut a, i, u.get(u_ptr[i]..u_ptr[i + 1])?, U_VALUES);
+            a.mem(Op::Mul, SUM, INVERSES, i);
+            a.store(SUM, Y, i);
+        }
+        a.return_value(0);
+        if a.failed() {
+            return None;
+        }
+        Some(CompiledSubstitution {
+            code: pages.seal()?,
+            rows,
+            y_need,
+            l_need,
+            u_need,
+        })
+    }
+
+    /// Solves `L U z = y` in place, as the loop does.
+    ///
+    /// Panics if an array is shorter than the code reads or writes.
+    pub fn run(&self, y: &mut [f64], l_val: &[f64], u_val: &[f64], u_inv: &[f64]) {
+        assert!(
+            y.len() >= self.y_need
+                && l_val.len() >= self.l_need
+                && u_val.len() >= self.u_need
+                && u_inv.len() >= self.rows,
+            "arrays shorter than the compiled substitution's"
+        );
+        // SAFETY: the code (`new`) reads and writes `y` below `y_need` (its
+        // rows and the columns it reads), reads `l_val`, `u_val` and `u_inv`
+        // below `l_need`, `u_need` and `rows`, all checked above; it touches no other memory, no register
+        // the System V convention asks a function to keep, nor the stack.
+        unsafe {
+            let f: unsafe extern "sysv64" fn(*mut f64, *const f64, *const f64, *const f64) -> u32 =
+                std::mem::transmute(self.code.entry());
+            f(
+                y.as_mut_ptr(),
+                l_val.as_ptr(),
+                u_val.as_ptr(),
+                u_inv.as_ptr(),
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::statics::Problem;
+    use crate::statics::live::Live;
+    use crate::statics::pattern::Pattern;
+    use crate::statics::pivoting::{self, Factors};
+    use crate::statics::sparse::substitute_as_loops;
+    use crate::statics::testkit::{Lcg, coupled_corners, kkt_values};
+
+    /// The factors of a random matrix on the KKT pattern of `corners`
+    /// coupled McPherson corners, its columns chosen with its pivots.
+    fn factors(corners: usize, rng: &mut Lcg) -> Factors {
+        let (m, _) = coupled_corners(corners);
+        let p = Problem::new(&m).expect("problem");
+        let live = Live::all(&Pattern::new(&p).expect("pattern"));
+        let v = kkt_values(&live.pattern, p.layout.n(), rng, 0.1);
+        let n = live.pattern.dim();
+        let (mut f, mut perm, mut inv) = (Factors::default(), vec![0; n], vec![0; n]);
+        pivoting::factor_choosing_columns(&live.pattern, &v, &mut f, &mut perm, &mut inv)
+            .expect("factors");
+        f
+    }
+
+    fn compiled(f: &Factors) -> Option<CompiledSubstitution> {
+        let r = &f.rows;
+        CompiledSubstitution::new(&r.l_ptr, r.l.pairs(), &r.u_ptr, r.u.pairs())
+    }
+
+    /// The compiled substitutions give the loops' solution to the bit, for
+    /// random right-hand sides and for one with a NaN and an infinity (which
+    /// spread as in the loops); eight coupled corners' rows (over
+    /// [`MAX_PRODUCTS`] products) are not compiled.
+    #[test]
+    fn the_compiled_substitution_is_the_loops_to_the_bit() {
+        let mut rng = Lcg::new(53);
+        let f = factors(1, &mut rng);
+        let code = compiled(&f).expect("compiled substitutions");
+        let n = f.u_inv.len();
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        for trial in 0..10 {
+            let mut y: Vec<f64> = (0..n).map(|_| 1e3 * rng.next()).collect();
+            if trial == 9 {
+                (y[3], y[n / 2]) = (f64::NAN, f64::INFINITY);
+            }
+            let mut by_code = y.clone();
+            substitute_as_loops(&f, &mut y);
+            code.run(&mut by_code, &f.l_val, &f.u_val, &f.u_inv);
+            assert_eq!(bits(&y), bits(&by_code), "trial {trial}");
+        }
+        let f2 = factors(8, &mut Lcg::new(59));
+        assert!(f2.rows.l.pairs().len() + f2.rows.u.pairs().len() > MAX_PRODUCTS);
+        assert!(compiled(&f2).is_none());
+    }
+
+    /// Arrays shorter than the code's are refused before it runs.
+    #[test]
+    #[should_panic(expected = "arrays shorter than the compiled substitution's")]
+    fn a_short_vector_is_refused() {
+        let f = factors(1, &mut Lcg::new(61));
+        let code = compiled(&f).expect("compiled substitutions");
+        let mut y = vec![0.0; f.u_inv.len() - 1];
+        code.run(&mut y, &f.l_val, &f.u_val, &f.u_inv);
+    }
+}

@@ -80,6 +80,10 @@ pub(crate) struct Rows {
     /// diagonals not counted), for the factors' growth bound
     /// ([`super::sparse::SparseLu::solution_holds`]).
     pub longest: [usize; 2],
+    /// The substitutions as machine code, once they have run enough times
+    /// (shared by the factors of this structure).
+    #[cfg(all(target_arch = "x86_64", unix))]
+    pub compiled: std::sync::Arc<super::compiled::Tiered<super::compiled::CompiledSubstitution>>,
 }
 
 impl Rows {
@@ -104,6 +108,8 @@ impl Rows {
             l: Products::new(l),
             u_ptr,
             u: Products::new(u),
+            #[cfg(all(target_arch = "x86_64", unix))]
+            compiled: Default::default(),
         })
     }
 }

@@ -323,27 +323,13 @@ impl SparseLu {
         }
         // P A Q = L U: y = P b, then L U z = y, then x = Q z.
         let (f, p) = (&self.own, &self.live.pattern);
-        // (Written while the rows' products read it.)
-        let y = std::cell::Cell::from_mut(&mut self.work[..n]).as_slice_of_cells();
-        for (yp, &r) in y.iter().zip(&self.row_perm) {
-            yp.set(b[r]);
+        let y = &mut self.work[..n];
+        for (yp, &r) in y.iter_mut().zip(&self.row_perm) {
+            *yp = b[r];
         }
-        // Row by row ([`super::pivoting::Rows`]), each row's sum in a
-        // register; the rows' pairs `(column, entry)` (the entry's value
-        // times y's) come one row after the other, L's from the first row,
-        // U's from the last.
-        let rows = &f.rows;
-        let mut l = rows.l.sweep(y, &f.l_val[..]);
-        for (yi, w) in y.iter().zip(rows.l_ptr.windows(2)) {
-            yi.set(l.subtract_next(yi.get(), w[1] - w[0]));
-        }
-        let mut u = rows.u.sweep(y, &f.u_val[..]);
-        let ends = rows.u_ptr.windows(2).rev();
-        for ((yi, w), inv) in y.iter().rev().zip(ends).zip(f.u_inv.iter().rev()) {
-            yi.set(u.subtract_last(yi.get(), w[1] - w[0]) * inv);
-        }
-        for (yj, &c) in y.iter().zip(&p.order) {
-            b[c] = yj.replace(0.0);
+        substitute(f, y);
+        for (yj, &c) in y.iter_mut().zip(&p.order) {
+            b[c] = std::mem::replace(yj, 0.0);
         }
         b.iter().all(|v| v.is_finite())
     }
@@ -479,6 +465,42 @@ impl SparseLu {
         }
         let (n, s) = (self.dim(), self.scale());
         s.reciprocal_condition_along(n, direction, |y| self.solve(y))
+    }
+}
+
+/// `L U z = y` in place with the factors `f`: as machine code once the
+/// structure's substitutions have run enough times
+/// ([`super::compiled::CompiledSubstitution`]), else as loops.
+fn substitute(f: &Factors, y: &mut [f64]) {
+    #[cfg(all(target_arch = "x86_64", unix))]
+    {
+        let r = &f.rows;
+        let compiled = r.compiled.get(|| {
+            super::compiled::CompiledSubstitution::new(&r.l_ptr, r.l.pairs(), &r.u_ptr, r.u.pairs())
+        });
+        if let Some(code) = compiled {
+            return code.run(y, &f.l_val, &f.u_val, &f.u_inv);
+        }
+    }
+    substitute_as_loops(f, y);
+}
+
+/// [`substitute`] as loops, row by row ([`super::pivoting::Rows`]), each
+/// row's sum in a register; the rows' pairs `(column, entry)` (the entry's
+/// value times y's) come one row after the other, L's from the first row,
+/// U's from the last.
+pub(super) fn substitute_as_loops(f: &Factors, y: &mut [f64]) {
+    // (Written while the rows' products read it.)
+    let y = std::cell::Cell::from_mut(y).as_slice_of_cells();
+    let rows = &f.rows;
+    let mut l = rows.l.sweep(y, &f.l_val[..]);
+    for (yi, w) in y.iter().zip(rows.l_ptr.windows(2)) {
+        yi.set(l.subtract_next(yi.get(), w[1] - w[0]));
+    }
+    let mut u = rows.u.sweep(y, &f.u_val[..]);
+    let ends = rows.u_ptr.windows(2).rev();
+    for ((yi, w), inv) in y.iter().rev().zip(ends).zip(f.u_inv.iter().rev()) {
+        yi.set(u.subtract_last(yi.get(), w[1] - w[0]) * inv);
     }
 }
 
