@@ -397,47 +397,71 @@ mod tests {
     }
 
     /// The plan compiled to machine code computes the loop's factors to the
-    /// bit, on the McPherson's whole KKT pattern: for the matrix the
-    /// elimination factorised and for others near it; and where a pivot is
-    /// refused (a threshold no pivot meets, a matrix of zeros, a NaN or an
-    /// infinity in a slot) it refuses too, having written what the loop
-    /// wrote up to that column, no more. The plans of two coupled corners
-    /// (7 231 products, over [`MAX_PRODUCTS`]: 3 366 for one) are not compiled.
+    /// bit, on the whole KKT patterns of one and two coupled McPherson
+    /// corners (3 366 and 7 231 products): for the matrix the elimination
+    /// factorised and for others near it; and where a pivot is refused (a
+    /// threshold no pivot meets, a matrix of zeros, a NaN or an infinity in
+    /// a slot) it refuses too, having written what the loop wrote up to
+    /// that column, no more.
     #[cfg(all(target_arch = "x86_64", unix))]
     #[test]
     fn the_compiled_plan_is_the_loop_to_the_bit() {
-        use crate::statics::compiled::MAX_PRODUCTS;
-        let mut rng = Lcg::new(41);
-        let (v, f, plan) = factorised_choosing_columns(1, &mut rng);
-        assert!(plan.ops.len() <= MAX_PRODUCTS);
-        let code = plan.compiled_for(&f).expect("a compiled plan");
-        let run_both = |w: &[f64], threshold: f64| {
-            let (mut by_loop, mut by_code) = (f.clone(), f.clone());
-            let looped = plan.run_as_loop(&mut by_loop, w, threshold);
-            let g = &mut by_code;
-            let coded = code.run(w, &mut g.l_val, &mut g.u_val, &mut g.u_inv, threshold);
-            assert_eq!(looped, coded, "refused by one, not the other");
-            assert!(same_bits(&by_loop, &by_code), "other bits");
-            looped
-        };
-        assert!(run_both(&v, 1e-4));
-        for _ in 0..8 {
-            let w: Vec<f64> = v.iter().map(|x| x * (1.0 + 0.1 * rng.next())).collect();
-            assert!(run_both(&w, 1e-4));
-        }
-        assert!(!run_both(&v, 1e6));
-        assert!(!run_both(&vec![0.0; v.len()], 1e-4));
-        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
-            // Early, midway, and in the last columns' slots.
-            for k in [0, v.len() / 2, v.len() - 1] {
-                let mut w = v.clone();
-                w[k] = bad;
-                run_both(&w, 1e-4);
+        for corners in [1, 2] {
+            let mut rng = Lcg::new(41 + corners as u64);
+            let (v, f, plan) = factorised_choosing_columns(corners, &mut rng);
+            let code = plan.compiled_for(&f).expect("a compiled plan");
+            let run_both = |w: &[f64], threshold: f64| {
+                let (mut by_loop, mut by_code) = (f.clone(), f.clone());
+                let looped = plan.run_as_loop(&mut by_loop, w, threshold);
+                let g = &mut by_code;
+                let coded = code.run(w, &mut g.l_val, &mut g.u_val, &mut g.u_inv, threshold);
+                assert_eq!(
+                    looped, coded,
+                    "N = {corners}: refused by one, not the other"
+                );
+                assert!(same_bits(&by_loop, &by_code), "N = {corners}: other bits");
+                looped
+            };
+            assert!(run_both(&v, 1e-4));
+            for _ in 0..8 {
+                let w: Vec<f64> = v.iter().map(|x| x * (1.0 + 0.1 * rng.next())).collect();
+                assert!(run_both(&w, 1e-4));
+            }
+            assert!(!run_both(&v, 1e6));
+            assert!(!run_both(&vec![0.0; v.len()], 1e-4));
+            for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                // Early, midway, and in the last columns' slots.
+                for k in [0, v.len() / 2, v.len() - 1] {
+                    let mut w = v.clone();
+                    w[k] = bad;
+                    run_both(&w, 1e-4);
+                }
             }
         }
-        let (_, f2, plan2) = factorised_choosing_columns(2, &mut Lcg::new(43));
-        assert!(plan2.ops.len() > MAX_PRODUCTS);
-        assert!(plan2.compiled_for(&f2).is_none());
+    }
+
+    /// A structure of more than [`MAX_PRODUCTS`] products, or whose entries
+    /// do not add up to its products, is not compiled.
+    #[cfg(all(target_arch = "x86_64", unix))]
+    #[test]
+    fn a_plan_too_large_or_inconsistent_is_not_compiled() {
+        use crate::statics::compiled::{CompiledPlan, MAX_PRODUCTS, Structure};
+        let (_, f, plan) = factorised_choosing_columns(1, &mut Lcg::new(67));
+        let structure = |products| Structure {
+            u_ptr: &f.u_ptr,
+            l_ptr: &f.l_ptr,
+            entries: &plan.entries,
+            products,
+            fill: FILL,
+        };
+        let pairs = plan.ops.pairs();
+        assert!(CompiledPlan::new(&structure(pairs)).is_some());
+        assert!(CompiledPlan::new(&structure(&pairs[1..])).is_none());
+        let mut more = pairs.to_vec();
+        more.push(pairs[0]);
+        assert!(CompiledPlan::new(&structure(&more)).is_none());
+        let too_many = vec![pairs[0]; MAX_PRODUCTS + 1];
+        assert!(CompiledPlan::new(&structure(&too_many)).is_none());
     }
 
     /// A plan runs as the loop until its
