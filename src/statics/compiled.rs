@@ -481,6 +481,31 @@ mod tests {
         assert!(CompiledSubstitution::new(&r.l_ptr, &too_many, &r.u_ptr, u).is_none());
     }
 
+    /// A solve's substitutions run as loops until the structure's
+    /// [`COMPILE_AFTER`]th, then as code (shared by a clone of the
+    /// factors), with the same bits either way.
+    #[test]
+    fn substitutions_are_compiled_after_their_first_runs() {
+        use crate::statics::sparse::substitute;
+        let mut rng = Lcg::new(73);
+        let f = factors(1, &mut rng);
+        let g = f.clone();
+        let n = f.u_inv.len();
+        let y: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+        let mut want = y.clone();
+        substitute_as_loops(&f, &mut want);
+        for run in 0..=COMPILE_AFTER {
+            assert!(!g.rows.compiled.is_compiled(), "compiled before run {run}");
+            let mut z = y.clone();
+            substitute(if run % 2 == 0 { &f } else { &g }, &mut z);
+            assert!(z.iter().zip(&want).all(|(a, b)| a.to_bits() == b.to_bits()));
+        }
+        assert!(f.rows.compiled.is_compiled() && g.rows.compiled.is_compiled());
+        let mut z = y.clone();
+        substitute(&g, &mut z);
+        assert!(z.iter().zip(&want).all(|(a, b)| a.to_bits() == b.to_bits()));
+    }
+
     /// Arrays shorter than the code's are refused before it runs.
     #[test]
     #[should_panic(expected = "arrays shorter than the compiled substitution's")]

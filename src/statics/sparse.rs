@@ -471,7 +471,7 @@ impl SparseLu {
 /// `L U z = y` in place with the factors `f`: as machine code once the
 /// structure's substitutions have run enough times
 /// ([`super::compiled::CompiledSubstitution`]), else as loops.
-fn substitute(f: &Factors, y: &mut [f64]) {
+pub(super) fn substitute(f: &Factors, y: &mut [f64]) {
     #[cfg(all(target_arch = "x86_64", unix))]
     {
         let r = &f.rows;
