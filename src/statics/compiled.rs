@@ -12,29 +12,31 @@
 //! elimination repeated on one structure, 1972), take two loads, a multiply
 //! and a subtract each and no branch: the McPherson's 1 346 products ran in
 //! 0.73 µs so written (by rustc, in a scratch program) against the loop's
-//! 1.3, and the 500-case path takes 8 % less (`docs/performance.md`). The arithmetic is the plan's to the
-//! bit: the same products in the same order, each rounded as Rust rounds
-//! `acc - l * u` (SSE2 scalar, no fused product), the same pivot test and
-//! `1 / pivot`. The substitutions likewise: a row's products in the loop's
-//! order, each `y[column] * value` as constants' displacements.
+//! 1.3, and the 500-case path takes 8 % less (`docs/performance.md`). The
+//! arithmetic is the plan's to the bit: the same products in the same
+//! order, each rounded as Rust rounds `acc - l * u` (SSE2 scalar, no fused
+//! product), the same pivot test and `1 / pivot`. The substitutions
+//! likewise: a row's products in the loops' order, each `y[column] * value`
+//! with constant displacements.
 //!
-//! Compiling costs about as much as tens of runs save, and many structures
-//! (a solve from the design, an identification's trial) are factorised
-//! only a few times, so the loop runs a structure's first
-//! [`COMPILE_AFTER`] times and the code the rest ([`Tiered`]).
+//! Compiling costs what about a hundred runs save, and many structures (a
+//! solve from the design, an identification's trial) are factorised only a
+//! few times, so the loop runs a structure's first [`COMPILE_AFTER`] times
+//! and the code the rest ([`Tiered`]).
 
 use super::x86::{Asm, Base, Executable, Jump, Op, Writable, Xmm};
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 /// How many times a structure's work runs as a loop before it is compiled:
-/// compiling the McPherson's plan costs 60-100 µs here (mostly the fresh
-/// pages), what 100-160 runs save, so a structure that has run this often
-/// and runs as often again repays it (`docs/performance.md`).
+/// compiling the McPherson's plan costs 53-85 µs here (half of it fresh
+/// pages), what 75-120 runs save (about 0.7 µs a run), so a structure that
+/// has run this often and runs as often again repays it
+/// (`docs/performance.md`).
 pub(crate) const COMPILE_AFTER: u32 = 128;
 
-/// Code compiled on the [`COMPILE_AFTER`]th use, shared by whoever shares
-/// the structure (on any thread).
+/// Code compiled at the first use after [`COMPILE_AFTER`] uses, shared by
+/// whoever shares the structure (on any thread).
 #[derive(Debug)]
 pub(crate) struct Tiered<T> {
     uses: AtomicU32,
@@ -51,9 +53,9 @@ impl<T> Default for Tiered<T> {
 }
 
 impl<T> Tiered<T> {
-    /// The code, compiling it by `compile` if this use is the
-    /// [`COMPILE_AFTER`]th; None before, or if it was not compiled (the
-    /// caller runs the loop).
+    /// The code, compiling it by `compile` if [`COMPILE_AFTER`] uses came
+    /// before this one; None before, or if it was not compiled (the caller
+    /// runs the loop).
     #[inline]
     pub fn get(&self, compile: impl FnOnce() -> Option<T>) -> Option<&T> {
         if let Some(code) = self.code.get() {
@@ -481,8 +483,8 @@ mod tests {
         assert!(CompiledSubstitution::new(&r.l_ptr, &too_many, &r.u_ptr, u).is_none());
     }
 
-    /// A solve's substitutions run as loops until the structure's
-    /// [`COMPILE_AFTER`]th, then as code (shared by a clone of the
+    /// A solve's substitutions run as loops for the structure's first
+    /// [`COMPILE_AFTER`] solves, then as code (shared by a clone of the
     /// factors), with the same bits either way.
     #[test]
     fn substitutions_are_compiled_after_their_first_runs() {

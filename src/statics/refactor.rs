@@ -464,9 +464,9 @@ mod tests {
         assert!(CompiledPlan::new(&structure(&too_many)).is_none());
     }
 
-    /// A plan runs as the loop until its
-    /// [`COMPILE_AFTER`](crate::statics::compiled::COMPILE_AFTER)th run, then as
-    /// compiled code, with the same factors either way.
+    /// A plan runs as the loop for its first
+    /// [`COMPILE_AFTER`](crate::statics::compiled::COMPILE_AFTER) runs, then
+    /// as compiled code, with the same factors either way.
     #[cfg(all(target_arch = "x86_64", unix))]
     #[test]
     fn a_plan_is_compiled_after_its_first_runs() {
