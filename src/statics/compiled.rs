@@ -100,14 +100,14 @@ const ZERO: usize = 4;
 /// The registers: an entry's sum, a product, the column's largest L entry,
 /// scratch, the pivot and its reciprocal, the pivot's absolute value, and the
 /// two constants kept in registers.
-const SUM: Xmm = Xmm(0);
-const PRODUCT: Xmm = Xmm(1);
-const BIG: Xmm = Xmm(2);
-const SCRATCH: Xmm = Xmm(3);
-const PIVOT: Xmm = Xmm(4);
-const PIVOT_ABS: Xmm = Xmm(5);
-const ONE_REG: Xmm = Xmm(6);
-const MASK_REG: Xmm = Xmm(7);
+const SUM: Xmm = Xmm::new(0);
+const PRODUCT: Xmm = Xmm::new(1);
+const BIG: Xmm = Xmm::new(2);
+const SCRATCH: Xmm = Xmm::new(3);
+const PIVOT: Xmm = Xmm::new(4);
+const PIVOT_ABS: Xmm = Xmm::new(5);
+const ONE_REG: Xmm = Xmm::new(6);
+const MASK_REG: Xmm = Xmm::new(7);
 
 /// The most products compiled (about 20 bytes of code each: 5 MiB). The
 /// code outgrows the first-level cache already at the McPherson (46 kB for

@@ -1,6 +1,6 @@
-//! The few x86-64 instructions a compiled refactorisation is made of
-//! ([`super::compiled`]), encoded, and the executable memory they run
-//! from.
+//! The few x86-64 instructions the compiled refactorisation and
+//! substitutions are made of ([`super::compiled`]), encoded, and the
+//! executable memory they run from.
 //!
 //! Only scalar SSE2 on doubles (the baseline x86-64 that axle is built for,
 //! so the arithmetic is the compiled Rust's to the bit: one rounding a
@@ -36,9 +36,18 @@ impl Base {
     }
 }
 
-/// An SSE register, `xmm0` to `xmm7` (no REX.R needed).
+/// An SSE register, `xmm0` to `xmm7` (no REX.R needed; a larger number
+/// would spill into the ModRM byte's other fields, so none can be made).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct Xmm(pub u8);
+pub(crate) struct Xmm(u8);
+
+impl Xmm {
+    /// `xmm{n}`; panics unless `n < 8` (at compile time in a constant).
+    pub const fn new(n: u8) -> Xmm {
+        assert!(n < 8, "only xmm0 to xmm7");
+        Xmm(n)
+    }
+}
 
 /// Scalar double operations `op xmm, xmm/m64` (prefix F2) and the packed
 /// ones used on a register's low lane (prefix 66).
@@ -332,16 +341,7 @@ mod tests {
     fn the_encodings_are_the_assemblers() {
         let mut buf = [0u8; 256];
         let mut a = Asm::new(&mut buf);
-        let (x0, x1, x2, x3, x4, x5, x6, x7) = (
-            Xmm(0),
-            Xmm(1),
-            Xmm(2),
-            Xmm(3),
-            Xmm(4),
-            Xmm(5),
-            Xmm(6),
-            Xmm(7),
-        );
+        let [x0, x1, x2, x3, x4, x5, x6, x7] = [0, 1, 2, 3, 4, 5, 6, 7].map(Xmm::new);
         a.mem(Op::Load, x0, Base::Rdi, 2); // movsd xmm0, [rdi+0x10]
         a.mem(Op::Load, x1, Base::Rsi, 128); // movsd xmm1, [rsi+0x400]
         a.mem(Op::Mul, x1, Base::Rdx, 1); // mulsd xmm1, [rdx+0x8]
@@ -383,19 +383,28 @@ mod tests {
     fn a_displacement_past_32_bits_or_a_full_buffer_fails() {
         let mut buf = [0u8; 64];
         let mut a = Asm::new(&mut buf);
-        a.mem(Op::Load, Xmm(0), Base::Rdi, (1 << 28) - 1);
+        a.mem(Op::Load, Xmm::new(0), Base::Rdi, (1 << 28) - 1);
         assert!(!a.failed() && a.code().len() == 8);
-        a.mem(Op::Load, Xmm(0), Base::Rdi, 1 << 28);
+        a.mem(Op::Load, Xmm::new(0), Base::Rdi, 1 << 28);
         assert!(a.failed());
-        a.reg(Op::Sub, Xmm(0), Xmm(1));
+        a.reg(Op::Sub, Xmm::new(0), Xmm::new(1));
         assert_eq!(a.code().len(), 8);
         let mut small = [0u8; 7];
         let mut b = Asm::new(&mut small);
-        b.mem(Op::Load, Xmm(0), Base::Rdi, 16);
+        b.mem(Op::Load, Xmm::new(0), Base::Rdi, 16);
         assert!(b.failed() && b.code().is_empty());
         let mut c = Asm::new(&mut buf);
-        c.store(Xmm(0), Base::Rdi, usize::MAX);
+        c.store(Xmm::new(0), Base::Rdi, usize::MAX);
         assert!(c.failed());
+    }
+
+    /// A register past xmm7 cannot be made (its number would spill into
+    /// the ModRM byte's mode).
+    #[test]
+    #[should_panic(expected = "only xmm0 to xmm7")]
+    fn only_the_first_eight_registers() {
+        let n = std::hint::black_box(8);
+        Xmm::new(n);
     }
 
     /// Code made executable runs: a function returning 1, then one
