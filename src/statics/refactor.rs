@@ -170,13 +170,13 @@ impl Plan {
     /// Panics if `f` does not hold the structure the plan was made for (as
     /// many entries), or `values` lacks a slot the plan starts from.
     pub fn run(&self, f: &mut Factors, values: &[f64], threshold: f64) -> bool {
+        assert_eq!(
+            self.entries.len() + f.u_inv.len(),
+            f.u_val.len() + f.l_val.len(),
+            "a plan for other factors"
+        );
         #[cfg(all(target_arch = "x86_64", unix))]
         if let Some(code) = self.compiled.get(|| self.compiled_for(f)) {
-            assert_eq!(
-                self.entries.len() + f.u_inv.len(),
-                f.u_val.len() + f.l_val.len(),
-                "a plan for other factors"
-            );
             return code.run(values, &mut f.l_val, &mut f.u_val, &mut f.u_inv, threshold);
         }
         self.run_as_loop(f, values, threshold)
@@ -195,8 +195,9 @@ impl Plan {
         })
     }
 
-    /// [`Self::run`] as a loop over the plan's entries and products.
-    pub fn run_as_loop(&self, f: &mut Factors, values: &[f64], threshold: f64) -> bool {
+    /// [`Self::run`] as a loop over the plan's entries and products (the
+    /// factors' entries checked against the plan's there).
+    fn run_as_loop(&self, f: &mut Factors, values: &[f64], threshold: f64) -> bool {
         let Factors {
             l_ptr,
             l_val,
@@ -206,11 +207,6 @@ impl Plan {
             ..
         } = f;
         let n = u_inv.len();
-        assert_eq!(
-            self.entries.len() + n,
-            u_val.len() + l_val.len(),
-            "a plan for other factors"
-        );
         assert!(
             values.len() >= self.values_need,
             "a matrix without a slot the plan starts from"
