@@ -25,6 +25,10 @@ set -euo pipefail
     echo "usage: benches/beside_exudyn.sh PEER_DIR [ROUNDS]" >&2
     exit 2
 }
+[ -d "$1" ] || {
+    echo "$1: no such directory (PEER_DIR: Exudyn's model of the McPherson, relative to where you are)" >&2
+    exit 2
+}
 peer=$(cd "$1" && pwd)
 rounds=${2:-4}
 cd "$(dirname "$0")/.."
