@@ -283,25 +283,18 @@ impl CompiledPlan {
         ];
         // SAFETY: the code (`new`) reads `values` below `values_need`, reads
         // and writes `l`, `u` and `u_inv` below `l_need`, `u_need` and
-        // `columns`, and `constants` below its five, all checked above; it
-        // touches no other memory, no register the System V convention
-        // asks a function to keep (only rax and xmm0-7), nor the stack.
-        unsafe {
-            let f: unsafe extern "sysv64" fn(
-                *const f64,
-                *mut f64,
-                *mut f64,
-                *mut f64,
-                *const f64,
-            ) -> u32 = std::mem::transmute(self.code.entry());
-            f(
-                values.as_ptr(),
-                l.as_mut_ptr(),
-                u.as_mut_ptr(),
-                u_inv.as_mut_ptr(),
-                constants.as_ptr(),
-            ) != 0
-        }
+        // `columns`, and reads `constants` below its five, all checked
+        // above; it touches no other memory, no register the System V
+        // convention asks a function to keep (only rax and xmm0-7), nor the
+        // stack.
+        let args = [
+            values.as_ptr().cast_mut(),
+            l.as_mut_ptr(),
+            u.as_mut_ptr(),
+            u_inv.as_mut_ptr(),
+            constants.as_ptr().cast_mut(),
+        ];
+        unsafe { self.code.call(args) != 0 }
     }
 }
 
@@ -402,18 +395,17 @@ impl CompiledSubstitution {
         );
         // SAFETY: the code (`new`) reads and writes `y` below `y_need` (its
         // rows and the columns it reads), reads `l_val`, `u_val` and `u_inv`
-        // below `l_need`, `u_need` and `rows`, all checked above; it touches no other memory, no register
-        // the System V convention asks a function to keep, nor the stack.
-        unsafe {
-            let f: unsafe extern "sysv64" fn(*mut f64, *const f64, *const f64, *const f64) -> u32 =
-                std::mem::transmute(self.code.entry());
-            f(
-                y.as_mut_ptr(),
-                l_val.as_ptr(),
-                u_val.as_ptr(),
-                u_inv.as_ptr(),
-            );
-        }
+        // below `l_need`, `u_need` and `rows`, all checked above; it touches
+        // no other memory, no register the System V convention asks a
+        // function to keep (only rax, xmm0 and xmm1), nor the stack.
+        let args = [
+            y.as_mut_ptr(),
+            l_val.as_ptr().cast_mut(),
+            u_val.as_ptr().cast_mut(),
+            u_inv.as_ptr().cast_mut(),
+            std::ptr::null_mut(),
+        ];
+        unsafe { self.code.call(args) };
     }
 }
 

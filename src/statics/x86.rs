@@ -314,9 +314,24 @@ impl Writable {
 }
 
 impl Executable {
-    /// The first instruction's address.
-    pub fn entry(&self) -> *const u8 {
-        self.at.as_ptr()
+    /// Calls the code as `extern "sysv64" fn(five pointers) -> u32` (the
+    /// one shape of every function generated here: unused arguments are
+    /// passed null) and returns its result.
+    ///
+    /// # Safety
+    /// The code is such a function, and every memory access it makes
+    /// through the pointers is within the arrays they point into (reads
+    /// only where the caller holds no more than a shared borrow); it
+    /// keeps the registers and stack the convention asks a function to
+    /// keep.
+    pub unsafe fn call(&self, args: [*mut f64; 5]) -> u32 {
+        type Generated =
+            unsafe extern "sysv64" fn(*mut f64, *mut f64, *mut f64, *mut f64, *mut f64) -> u32;
+        // SAFETY: the caller's (the code is a function of this type).
+        unsafe {
+            let f: Generated = std::mem::transmute(self.at.as_ptr());
+            f(args[0], args[1], args[2], args[3], args[4])
+        }
     }
 }
 
@@ -417,11 +432,10 @@ mod tests {
             a.return_value(value);
             assert!(!a.failed());
             let code = pages.seal().expect("executable memory");
-            // SAFETY: the code is `mov eax, value; ret` (or `xor`), a
-            // function of no arguments returning a 32-bit value.
-            let f: unsafe extern "sysv64" fn() -> u32 =
-                unsafe { std::mem::transmute(code.entry()) };
-            assert_eq!(unsafe { f() }, value);
+            // SAFETY: the code is `mov eax, value; ret` (or `xor`): it
+            // touches no memory and no register but eax.
+            let got = unsafe { code.call([std::ptr::null_mut(); 5]) };
+            assert_eq!(got, value);
         }
     }
 }
