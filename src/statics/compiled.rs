@@ -17,7 +17,9 @@
 //! order, each rounded as Rust rounds `acc - l * u` (SSE2 scalar, no fused
 //! product), the same pivot test and `1 / pivot`. The substitutions
 //! likewise: a row's products in the loops' order, each `y[column] * value`
-//! with constant displacements.
+//! with constant displacements. Values just computed and read again soon
+//! (a column's U entries, a substitution's rows) are read from registers
+//! they were copied to, not from memory ([`Recent`]).
 //!
 //! Compiling costs what about a hundred runs save, and many structures (a
 //! solve from the design, an identification's trial) are factorised only a
@@ -109,6 +111,82 @@ const PIVOT_ABS: Xmm = Xmm::new(5);
 const ONE_REG: Xmm = Xmm::new(6);
 const MASK_REG: Xmm = Xmm::new(7);
 
+/// The values last written that are also kept in registers, in turn. A
+/// value just computed is read again soon (a substitution's row by the
+/// rows after it, an entry of U by the entries below it in its column):
+/// from memory, each such read waits for the store before it, about seven
+/// cycles on the chain of dependent rows, where a register copy waits
+/// none. Reads are the same values either way (the same bits).
+struct Recent {
+    /// The registers used, in turn.
+    regs: &'static [Xmm],
+    /// The array and index of the value each register holds.
+    held: [Option<(Base, usize)>; 16],
+    /// The register the next value goes to.
+    next: usize,
+}
+
+impl Recent {
+    fn new(regs: &'static [Xmm]) -> Recent {
+        Recent {
+            regs,
+            held: [None; 16],
+            next: 0,
+        }
+    }
+
+    /// The register holding `array[index]`, if one does.
+    fn find(&self, array: Base, index: usize) -> Option<Xmm> {
+        let s = self.held[..self.regs.len()]
+            .iter()
+            .position(|&h| h == Some((array, index)))?;
+        Some(self.regs[s])
+    }
+
+    /// Keeps a copy of `array[index]` (now in `from`), in place of the
+    /// oldest kept (and of an older copy of the same).
+    fn keep(&mut self, a: &mut Asm, array: Base, index: usize, from: Xmm) {
+        let n = self.regs.len();
+        for h in &mut self.held[..n] {
+            if *h == Some((array, index)) {
+                *h = None;
+            }
+        }
+        let s = self.next;
+        self.next = (s + 1) % n;
+        self.held[s] = Some((array, index));
+        a.reg(Op::Move, self.regs[s], from);
+    }
+
+    /// `dst = array[index]`, from its register if one holds it.
+    fn load(&self, a: &mut Asm, dst: Xmm, array: Base, index: usize) {
+        match self.find(array, index) {
+            Some(r) => a.reg(Op::Move, dst, r),
+            None => a.mem(Op::Load, dst, array, index),
+        }
+    }
+}
+
+/// The registers a plan keeps its current column's last U entries in
+/// (the others hold an entry's sum, a product, the pivot's test and the
+/// constants).
+const PLAN_KEEPS: [Xmm; 8] = registers::<8>(8);
+
+/// The registers a substitution keeps its last rows in (all but the row's
+/// sum and a product).
+const SUBSTITUTION_KEEPS: [Xmm; 14] = registers::<14>(2);
+
+/// `N` registers from `xmm{first}` on.
+const fn registers<const N: usize>(first: u8) -> [Xmm; N] {
+    let mut r = [Xmm::new(0); N];
+    let mut k = 0;
+    while k < N {
+        r[k] = Xmm::new(first + k as u8);
+        k += 1;
+    }
+    r
+}
+
 /// The most products compiled (about 20 bytes of code each: 5 MiB). The
 /// code outgrows the first-level cache already at the McPherson (46 kB for
 /// its plan) and runs from the second: the gain falls with the size (11 %
@@ -151,16 +229,17 @@ impl CompiledPlan {
         }
         let columns = s.u_ptr.len().checked_sub(1)?;
         // At most 20 bytes a product (two loads or multiplications of 8,
-        // a subtraction of 4), 16 an entry (its start and store) and 36
-        // more an L entry (its largest, its scaling), 96 a column (the
-        // pivot's test and reciprocal), and 16 for the last instruction's
-        // scratch ([`Asm`]), written straight into the pages it will run
-        // from (each fresh page costs about 2.5 µs here).
+        // a subtraction of 4), 21 an entry (its start and store of 8 each,
+        // its register copy of 5) and 36 more an L entry (its largest, its
+        // scaling), 96 a column (the pivot's test and reciprocal), and 16
+        // for the last instruction's scratch ([`Asm`]), written straight
+        // into the pages it will run from (each fresh page costs about
+        // 2.5 µs here).
         let l_entries = s.l_ptr[columns]
             .checked_sub(s.l_ptr[0])?
             .checked_sub(columns)?;
         let bound =
-            s.products.len() * 20 + s.entries.len() * 16 + l_entries * 36 + columns * 96 + 64;
+            s.products.len() * 20 + s.entries.len() * 21 + l_entries * 36 + columns * 96 + 64;
         let mut pages = Writable::new(bound)?;
         let mut a = Asm::new(pages.bytes());
         a.mem(Op::Load, MASK_REG, CONSTANTS, ABS_MASK);
@@ -168,7 +247,10 @@ impl CompiledPlan {
         let (mut values_need, mut l_need, mut u_need) = (0, 0, 0);
         let (mut entries, mut products) = (s.entries.iter(), s.products);
         // One entry: its start, minus its products, stored at `target[at]`.
-        let mut entry = |a: &mut Asm, target: Base, at: usize| -> Option<()> {
+        // The current column's U entries as they are computed: each is
+        // read by the entries after it.
+        let mut recent = Recent::new(&PLAN_KEEPS);
+        let mut entry = |a: &mut Asm, recent: &mut Recent, target: Base, at: usize| -> Option<()> {
             let &(from, count) = entries.next()?;
             let (now, rest) = products.split_at_checked(count as usize)?;
             products = rest;
@@ -182,7 +264,10 @@ impl CompiledPlan {
                 let (l, u) = (l as usize, u as usize);
                 (l_need, u_need) = (l_need.max(l + 1), u_need.max(u + 1));
                 a.mem(Op::Load, PRODUCT, L, l);
-                a.mem(Op::Mul, PRODUCT, U, u);
+                match recent.find(U, u) {
+                    Some(r) => a.reg(Op::Mul, PRODUCT, r),
+                    None => a.mem(Op::Mul, PRODUCT, U, u),
+                }
                 a.reg(Op::Sub, SUM, PRODUCT);
             }
             let need = if target == U {
@@ -192,6 +277,9 @@ impl CompiledPlan {
             };
             *need = (*need).max(at + 1);
             a.store(SUM, target, at);
+            if target == U {
+                recent.keep(a, U, at, SUM);
+            }
             Some(())
         };
         for j in 0..columns {
@@ -201,14 +289,14 @@ impl CompiledPlan {
                 return None;
             }
             for e in us..ue {
-                entry(&mut a, U, e)?;
+                entry(&mut a, &mut recent, U, e)?;
             }
             // The column's largest L entry before scaling, as the plan's
             // `if v.abs() > big { v.abs() } else { big }` (maxsd gives its
             // second operand when either is a NaN).
             a.reg(Op::Xor, BIG, BIG);
             for e in ls..le {
-                entry(&mut a, L, e)?;
+                entry(&mut a, &mut recent, L, e)?;
                 a.reg(Op::Move, SCRATCH, SUM);
                 a.reg(Op::And, SCRATCH, MASK_REG);
                 a.reg(Op::Max, SCRATCH, BIG);
@@ -217,7 +305,7 @@ impl CompiledPlan {
             // Refused unless finite, not zero, and at least the threshold
             // times the largest entry below it (a NaN compares unordered,
             // which `jb` takes).
-            a.mem(Op::Load, PIVOT, U, ue - 1);
+            recent.load(&mut a, PIVOT, U, ue - 1);
             a.reg(Op::Move, PIVOT_ABS, PIVOT);
             a.reg(Op::And, PIVOT_ABS, MASK_REG);
             a.mem(Op::Mul, BIG, CONSTANTS, THRESHOLD);
@@ -285,7 +373,7 @@ impl CompiledPlan {
         // and writes `l`, `u` and `u_inv` below `l_need`, `u_need` and
         // `columns`, and reads `constants` below its five, all checked
         // above; it touches no other memory, no register the System V
-        // convention asks a function to keep (only rax and xmm0-7), nor the
+        // convention asks a function to keep (only rax and xmm registers), nor the
         // stack.
         let args = [
             values.as_ptr().cast_mut(),
@@ -334,40 +422,46 @@ impl CompiledSubstitution {
             return None;
         }
         let rows = l_ptr.len().checked_sub(1)?;
-        // 20 bytes a product, 24 a row (its load, store and scaling), and
-        // 16 for the last instruction's scratch ([`Asm`]).
-        let bound = (l.len() + u.len()) * 20 + 2 * rows * 24 + 64;
+        // 20 bytes a product, 29 a row (its load, store and scaling of 8,
+        // its register copy of 5), and 16 for the last instruction's
+        // scratch ([`Asm`]).
+        let bound = (l.len() + u.len()) * 20 + 2 * rows * 29 + 64;
         let mut pages = Writable::new(bound)?;
         let mut a = Asm::new(pages.bytes());
         let (mut y_need, mut l_need, mut u_need) = (rows, 0, 0);
-        let mut row = |a: &mut Asm, i: usize, pairs: &[(u32, u32)], values: Base| {
-            a.mem(Op::Load, SUM, Y, i);
-            for &(c, e) in pairs {
-                let (c, e) = (c as usize, e as usize);
-                y_need = y_need.max(c + 1);
-                let need = if values == L_VALUES {
-                    &mut l_need
-                } else {
-                    &mut u_need
-                };
-                *need = (*need).max(e + 1);
-                a.mem(Op::Load, PRODUCT, Y, c);
-                a.mem(Op::Mul, PRODUCT, values, e);
-                a.reg(Op::Sub, SUM, PRODUCT);
-            }
-        };
+        // The rows last solved: each is read by the rows after it.
+        let mut recent = Recent::new(&SUBSTITUTION_KEEPS);
+        let mut row =
+            |a: &mut Asm, recent: &Recent, i: usize, pairs: &[(u32, u32)], values: Base| {
+                recent.load(a, SUM, Y, i);
+                for &(c, e) in pairs {
+                    let (c, e) = (c as usize, e as usize);
+                    y_need = y_need.max(c + 1);
+                    let need = if values == L_VALUES {
+                        &mut l_need
+                    } else {
+                        &mut u_need
+                    };
+                    *need = (*need).max(e + 1);
+                    recent.load(a, PRODUCT, Y, c);
+                    a.mem(Op::Mul, PRODUCT, values, e);
+                    a.reg(Op::Sub, SUM, PRODUCT);
+                }
+            };
         for i in 0..rows {
             let pairs = l.get(l_ptr[i]..l_ptr[i + 1])?;
             // (A row of L without entries leaves y's entry as it is.)
             if !pairs.is_empty() {
-                row(&mut a, i, pairs, L_VALUES);
+                row(&mut a, &recent, i, pairs, L_VALUES);
                 a.store(SUM, Y, i);
+                recent.keep(&mut a, Y, i, SUM);
             }
         }
         for i in (0..rows).rev() {
-            row(&mut a, i, u.get(u_ptr[i]..u_ptr[i + 1])?, U_VALUES);
+            row(&mut a, &recent, i, u.get(u_ptr[i]..u_ptr[i + 1])?, U_VALUES);
             a.mem(Op::Mul, SUM, INVERSES, i);
             a.store(SUM, Y, i);
+            recent.keep(&mut a, Y, i, SUM);
         }
         a.return_value(0);
         if a.failed() {
@@ -397,7 +491,7 @@ impl CompiledSubstitution {
         // rows and the columns it reads), reads `l_val`, `u_val` and `u_inv`
         // below `l_need`, `u_need` and `rows`, all checked above; it touches
         // no other memory, no register the System V convention asks a
-        // function to keep (only rax, xmm0 and xmm1), nor the stack.
+        // function to keep (only rax and xmm registers), nor the stack.
         let args = [
             y.as_mut_ptr(),
             l_val.as_ptr().cast_mut(),

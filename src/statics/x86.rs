@@ -5,9 +5,10 @@
 //! Only scalar SSE2 on doubles (the baseline x86-64 that axle is built for,
 //! so the arithmetic is the compiled Rust's to the bit: one rounding a
 //! multiplication, one a subtraction, no fused product), on registers
-//! `xmm0`-`xmm7`, with memory operands `[base + 8 i]` on the first five
-//! integer argument registers of the System V convention. The encodings
-//! are checked against GNU as's in the tests below.
+//! `xmm0`-`xmm15` (all free for a function to use in the System V
+//! convention), with memory operands `[base + 8 i]` on the first five
+//! integer argument registers. The encodings are checked against GNU as's
+//! in the tests below.
 
 use std::ptr::NonNull;
 
@@ -36,17 +37,30 @@ impl Base {
     }
 }
 
-/// An SSE register, `xmm0` to `xmm7` (no REX.R needed; a larger number
-/// would spill into the ModRM byte's other fields, so none can be made).
+/// An SSE register, `xmm0` to `xmm15` (the upper eight through a REX
+/// prefix; a larger number would spill into the ModRM byte's other fields,
+/// so none can be made).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Xmm(u8);
 
 impl Xmm {
-    /// `xmm{n}`; panics unless `n < 8` (at compile time in a constant).
+    /// `xmm{n}`; panics unless `n < 16` (at compile time in a constant).
     pub const fn new(n: u8) -> Xmm {
-        assert!(n < 8, "only xmm0 to xmm7");
+        assert!(n < 16, "only xmm0 to xmm15");
         Xmm(n)
     }
+
+    /// The register's low three bits (ModRM's field) and its fourth (REX's
+    /// R or B bit).
+    fn low_and_high(self) -> (u8, u8) {
+        (self.0 & 7, self.0 >> 3)
+    }
+}
+
+/// A REX prefix with the given R and B bits, or none if both are clear
+/// (W and X are never needed here).
+fn rex(r: u8, b: u8) -> Option<u8> {
+    (r | b != 0).then_some(0x40 | r << 2 | b)
 }
 
 /// Scalar double operations `op xmm, xmm/m64` (prefix F2) and the packed
@@ -157,7 +171,12 @@ impl<'a> Asm<'a> {
     /// `op xmm, xmm`.
     pub fn reg(&mut self, op: Op, dst: Xmm, src: Xmm) {
         let (prefix, code) = op.code();
-        self.put([prefix, 0x0F, code, 0xC0 | dst.0 << 3 | src.0]);
+        let ((d, r), (s, b)) = (dst.low_and_high(), src.low_and_high());
+        let modrm = 0xC0 | d << 3 | s;
+        match rex(r, b) {
+            Some(x) => self.put([prefix, x, 0x0F, code, modrm]),
+            None => self.put([prefix, 0x0F, code, modrm]),
+        }
     }
 
     /// `op xmm, [base + 8 index]`.
@@ -177,15 +196,24 @@ impl<'a> Asm<'a> {
             return;
         };
         let (rm, rex_b) = base.rm();
-        let modrm = |mode: u8| mode << 6 | reg.0 << 3 | rm;
-        // Prefix, REX.B for r8, opcode, ModRM, displacement (none, 8 or 32
-        // bits; no base here is rbp or r13, whose mode 0 means another
-        // operand).
+        let (r, rex_r) = reg.low_and_high();
+        let modrm = |mode: u8| mode << 6 | r << 3 | rm;
+        // Prefix, REX (R for xmm8-15, B for r8), opcode, ModRM,
+        // displacement (none, 8 or 32 bits; no base here is rbp or r13,
+        // whose mode 0 means another operand).
         let mut bytes = [0u8; 16];
         let mut n = 0;
-        for b in [prefix, 0x41, 0x0F, code] {
+        for b in [
+            Some(prefix),
+            rex(rex_r, u8::from(rex_b)),
+            Some(0x0F),
+            Some(code),
+        ]
+        .into_iter()
+        .flatten()
+        {
             bytes[n] = b;
-            n += usize::from(b != 0x41 || rex_b);
+            n += 1;
         }
         let (mode, width) = match disp {
             0 => (0, 0),
@@ -392,6 +420,28 @@ mod tests {
         assert_eq!(hex, gnu_as);
     }
 
+    /// The upper eight registers through REX.R and REX.B, alone and with
+    /// r8 as the base.
+    #[test]
+    fn the_upper_registers_are_the_assemblers() {
+        let mut buf = [0u8; 128];
+        let mut a = Asm::new(&mut buf);
+        let x = |n| Xmm::new(n);
+        a.reg(Op::Move, x(9), x(0)); // movapd xmm9, xmm0
+        a.reg(Op::Mul, x(1), x(12)); // mulsd xmm1, xmm12
+        a.mem(Op::Load, x(10), Base::Rsi, 128); // movsd xmm10, [rsi+0x400]
+        a.store(x(15), Base::Rdx, 1); // movsd [rdx+0x8], xmm15
+        a.mem(Op::Mul, x(11), Base::R8, 2); // mulsd xmm11, [r8+0x10]
+        a.reg(Op::Sub, x(13), x(14)); // subsd xmm13, xmm14
+        a.reg(Op::Move, x(0), x(8)); // movapd xmm0, xmm8
+        a.mem(Op::Load, x(8), Base::Rdi, 0); // movsd xmm8, [rdi]
+        assert!(!a.failed());
+        let gnu_as = "66440f28c8f2410f59ccf2440f109600040000f2440f117a08\
+                      f2450f595810f2450f5cee66410f28c0f2440f1007";
+        let hex: String = a.code().iter().map(|b| format!("{b:02x}")).collect();
+        assert_eq!(hex, gnu_as);
+    }
+
     /// A displacement past 32 bits fails the code, and so does a full
     /// buffer; nothing is written after.
     #[test]
@@ -413,12 +463,12 @@ mod tests {
         assert!(c.failed());
     }
 
-    /// A register past xmm7 cannot be made (its number would spill into
+    /// A register past xmm15 cannot be made (its number would spill into
     /// the ModRM byte's mode).
     #[test]
-    #[should_panic(expected = "only xmm0 to xmm7")]
-    fn only_the_first_eight_registers() {
-        let n = std::hint::black_box(8);
+    #[should_panic(expected = "only xmm0 to xmm15")]
+    fn only_sixteen_registers() {
+        let n = std::hint::black_box(16);
         Xmm::new(n);
     }
 
