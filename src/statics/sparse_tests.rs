@@ -401,9 +401,8 @@ fn widens(corners: usize) {
 }
 
 /// Outside the live slots a matrix holds if each entry is at most `DROP`
-/// times its largest and a number: exact zeros (the quick check of the
-/// entries' bits), a negative zero and a rounding-sized entry (the
-/// comparison they fall through to) hold; an entry past the limit, a NaN or
+/// times its largest and a number: exact zeros, a negative zero and a
+/// rounding-sized entry hold; an entry past the limit, a NaN or
 /// an infinity does not, in any dead slot. (One corner and two: the matrix
 /// copied whole and by its live entries.)
 #[test]
