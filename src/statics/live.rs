@@ -33,8 +33,11 @@ pub(super) const DROP: f64 = 1e-14;
 pub(crate) struct Live {
     /// The pattern of the live slots, with its own column order.
     pub(super) pattern: Pattern,
-    /// Per slot of `pattern`, the slot of the full pattern it is.
-    pub(super) from: Vec<usize>,
+    /// Per slot of `pattern`, the slot of the full pattern it is (read
+    /// through [`Self::from`]: `from_need` must stay its bound).
+    from: Vec<usize>,
+    /// One more than the largest of `from` (0 for none).
+    from_need: usize,
     /// Per slot of the full pattern, all bits set if it is not live (the
     /// other slots: at most [`DROP`] of the largest entry in every matrix
     /// factorised), none if it is: a mask `holds` applies to every slot
@@ -60,6 +63,7 @@ impl Live {
         let (row_ptr, by_row) = rows(&pattern, &from);
         Some(Live {
             pattern,
+            from_need: need(&from),
             from,
             outside,
             row_ptr,
@@ -73,6 +77,7 @@ impl Live {
         let (row_ptr, by_row) = rows(full, &from);
         Live {
             pattern: full.clone(),
+            from_need: need(&from),
             from,
             outside: vec![0; full.nnz()],
             row_ptr,
@@ -147,12 +152,57 @@ impl Live {
         Live::ordered(full, &keep, ColumnOrder::Given(&self.pattern.order))
     }
 
+    /// Per live slot, the slot of the full pattern it is.
+    pub fn from(&self) -> &[usize] {
+        &self.from
+    }
+
+    /// `values` (in the full pattern's slots) at the live slots copied
+    /// into `a` (the other slots of `a` left as they are), and their
+    /// largest magnitude (NaNs passed over). By index, unchecked, in eight
+    /// lanes of the maximum: the copy was one load and two stores an entry
+    /// (into `a` and a vector of the live entries, for the maximum's pass
+    /// after), each index checked against both arrays.
+    ///
+    /// Panics if `values` or `a` is shorter than the full pattern's slots
+    /// that are live.
+    pub fn copy_into(&self, values: &[f64], a: &mut [f64]) -> f64 {
+        assert!(
+            self.from_need <= values.len() && self.from_need <= a.len(),
+            "a matrix shorter than its live slots"
+        );
+        let mut mx = [0.0f64; 8];
+        let mut copy = |lane: usize, k: usize| {
+            // SAFETY: `k < from_need` (its definition), asserted above to
+            // be within both arrays.
+            let x = unsafe { *values.get_unchecked(k) };
+            unsafe { *a.get_unchecked_mut(k) = x };
+            let v = x.abs();
+            mx[lane] = if v > mx[lane] { v } else { mx[lane] };
+        };
+        let mut chunks = self.from.chunks_exact(8);
+        for c in &mut chunks {
+            for (lane, &k) in c.iter().enumerate() {
+                copy(lane, k);
+            }
+        }
+        for (lane, &k) in chunks.remainder().iter().enumerate() {
+            copy(lane, k);
+        }
+        mx.iter().fold(0.0f64, |m, v| m.max(*v))
+    }
+
     /// The slots kept, of how many.
     #[cfg(test)]
     pub fn count(&self) -> (usize, usize) {
         let dead = self.outside.iter().filter(|m| **m != 0).count();
         (self.from.len(), self.from.len() + dead)
     }
+}
+
+/// One more than the largest slot of `from`, 0 for none.
+fn need(from: &[usize]) -> usize {
+    from.iter().max().map_or(0, |k| k + 1)
 }
 
 /// The slots of `pattern` (the full pattern's `from`) row by row, as

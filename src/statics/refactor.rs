@@ -55,7 +55,7 @@ impl Plan {
         let n = p.dim();
         let (nu, nl) = (f.u_val.len(), f.l_val.len());
         // (The entries start from the full pattern's slots, `live.from`.)
-        let slots = live.from.last().map_or(0, |k| k + 1);
+        let slots = live.from().iter().max().map_or(0, |k| k + 1);
         let big = (nu + nl).max(slots);
         if f.u_ptr.len() != n + 1 || f.l_ptr.len() != n + 1 || big >= FILL as usize {
             return None;
@@ -91,7 +91,7 @@ impl Plan {
                 if e == FILL {
                     return None;
                 }
-                let (e, slot) = (e as usize, *live.from.get(k)? as u32);
+                let (e, slot) = (e as usize, *live.from().get(k)? as u32);
                 if e < nu {
                     u_from[e] = slot;
                 } else {

@@ -120,7 +120,7 @@ impl SparseLu {
         };
         let mut lu = SparseLu {
             a: vec![0.0; pattern.nnz()],
-            live_a: vec![0.0; live.from.len()],
+            live_a: vec![0.0; live.from().len()],
             live,
             widened: 0,
             pattern,
@@ -149,7 +149,7 @@ impl SparseLu {
     /// matrix (the seed pivots, if any, are of other slots).
     pub fn starting_with(pattern: Arc<Pattern>, live: Live) -> SparseLu {
         let mut lu = SparseLu::new(pattern);
-        lu.live_a = vec![0.0; live.from.len()];
+        lu.live_a = vec![0.0; live.from().len()];
         lu.live = Arc::new(live);
         lu.reusable = false;
         lu
@@ -202,7 +202,7 @@ impl SparseLu {
                 return false;
             };
             self.live = Arc::new(live);
-            self.live_a.resize(self.live.from.len(), 0.0);
+            self.live_a.resize(self.live.from().len(), 0.0);
             self.reusable = false;
             self.widened += 1;
             (self.a_max, _) = self.gather(values);
@@ -215,7 +215,7 @@ impl SparseLu {
         }
         self.fresh += 1;
         // (The elimination takes the live entries in the live slots' order.)
-        for (v, &k) in self.live_a.iter_mut().zip(&self.live.from) {
+        for (v, &k) in self.live_a.iter_mut().zip(self.live.from()) {
             *v = self.a[k];
         }
         let ok = self.factor_fresh(choose_columns);
@@ -255,7 +255,7 @@ impl SparseLu {
     /// passes stay in the first-level cache, and an indexed copy of the
     /// live entries, one load and two stores an entry, took a seventh of a
     /// McPherson refactorisation. A larger one has its live entries copied
-    /// by index, into `live_a` too (their largest in lanes), and leaves the
+    /// by index (their largest in the same pass), and leaves the
     /// check to [`Live::holds`]: copied whole, two and eight coupled corners
     /// and the car lost 1-3 %, though their share of live slots is the
     /// corner's; the copy's size decides (`docs/performance.md`).
@@ -268,13 +268,7 @@ impl SparseLu {
             }
             return (largest(&self.a), clean);
         }
-        for (v, &k) in self.live_a.iter_mut().zip(&self.live.from) {
-            let x = values[k];
-            *v = x;
-            self.a[k] = x;
-        }
-        // In lanes: a running maximum is a chain of dependent steps.
-        (largest(&self.live_a), false)
+        (self.live.copy_into(values, &mut self.a), false)
     }
 
     /// [`Self::factor`] with fresh pivots whose columns are chosen with

@@ -554,3 +554,29 @@ fn the_factors_growth_bounds_the_residual() {
     wrong[dim - 1] += 1e-3 * x_max;
     assert!(!s.solution_holds(&grown, &wrong, &b));
 }
+
+/// The copy by live slots writes each live slot of the copy with the
+/// matrix's entry and leaves the others as they were, and gives the largest
+/// live magnitude (a NaN passed over, as by `largest`); a copy shorter than
+/// the live slots is refused before anything is written.
+#[test]
+fn the_copy_by_live_slots_takes_them_and_their_largest() {
+    let (_, pat, mut v, keep) = every_fifth_left_out(2);
+    let live = Live::ordered(&pat, &keep, ColumnOrder::Amd).expect("order");
+    let live_slot = (0..pat.nnz()).filter(|&k| keep[k]).nth(7).expect("slot");
+    v[live_slot] = f64::NAN;
+    let mut a = vec![-1.0; pat.nnz()];
+    let big = live.copy_into(&v, &mut a);
+    for k in 0..pat.nnz() {
+        let want = if keep[k] { v[k] } else { -1.0 };
+        assert_eq!(a[k].to_bits(), want.to_bits(), "slot {k}");
+    }
+    let inside = zeroed_outside(&v, &keep);
+    assert_eq!(big, largest(&inside));
+    assert!(big > 0.0 && big.is_finite());
+    let refused = std::panic::catch_unwind(|| {
+        let mut short = vec![0.0; *live.from().iter().max().expect("live")];
+        live.copy_into(&v, &mut short)
+    });
+    assert!(refused.is_err());
+}
