@@ -109,6 +109,8 @@ impl Live {
     /// Whether every entry of `values` (in the full pattern's slots) outside
     /// these slots is at most [`DROP`] times `largest` (the matrix's largest
     /// entry), and a number.
+    // (`!(x <= tol)` on purpose: a NaN must fail it.)
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
     pub fn holds(&self, values: &[f64], largest: f64) -> bool {
         // One pass over every slot, the live ones masked to zero, without a
         // branch: an entry past the tolerance or not a number fails `<=`
