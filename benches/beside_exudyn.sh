@@ -41,7 +41,13 @@ py=${PYTHON:-$peer/.venv/bin/python}
 [ -x "$py" ] || py=python3
 
 echo "building axle and the statics bench (minutes on a fresh clone) ..." >&2
-cargo build --release --locked --quiet
+# (The binaries' paths from cargo: a CARGO_TARGET_DIR moves them.)
+axle=$(cargo build --release --locked --message-format=json 2>/dev/null |
+    sed -n 's/.*"executable":"\([^"]*\/axle\)".*/\1/p' | tail -n 1)
+[ -x "$axle" ] || {
+    echo "axle did not build" >&2
+    exit 1
+}
 bench=$(cargo bench --bench statics --no-run --locked --message-format=json 2>/dev/null |
     sed -n 's/.*"executable":"\([^"]*statics-[^"]*\)".*/\1/p' | tail -n 1)
 [ -x "$bench" ] || {
@@ -93,7 +99,7 @@ for r in $(seq 1 "$rounds"); do
         exit 1
     }
     exu_proc=$(for _ in 1 2 3; do cpu_ms "$py" "$peer/mcpherson.py" --loads "$loads" --bushing native --quiet; done | median)
-    ax_proc=$(for _ in $(seq 1 20); do cpu_ms target/release/axle solve examples/mcpherson.axle --loads "$loads" --format json; done | median)
+    ax_proc=$(for _ in $(seq 1 20); do cpu_ms "$axle" solve examples/mcpherson.axle --loads "$loads" --format json; done | median)
     awk -v r="$r" -v e="$exu" -v a="$ax" -v ep="$exu_proc" -v ap="$ax_proc" \
         'BEGIN {printf "%d | %.4f | %.2f | %.1f | %.0f | %.2f | %.1f\n", r, e, a, 1000 * e / a, ep, ap, ep / ap}'
 done | tee "$rows"
