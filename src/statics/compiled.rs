@@ -373,8 +373,8 @@ impl CompiledPlan {
         // and writes `l`, `u` and `u_inv` below `l_need`, `u_need` and
         // `columns`, and reads `constants` below its five, all checked
         // above; it touches no other memory, no register the System V
-        // convention asks a function to keep (only rax and xmm registers), nor the
-        // stack.
+        // convention asks a function to keep (only rax and xmm registers),
+        // nor the stack.
         let args = [
             values.as_ptr().cast_mut(),
             l.as_mut_ptr(),

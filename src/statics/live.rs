@@ -131,7 +131,8 @@ impl Live {
 
     /// The bits of every entry of `values` (in the full pattern's slots)
     /// outside these slots OR-ed together: zero when all of them are exact
-    /// zeros (`+0.0`), as in every matrix met so far.
+    /// zeros (`+0.0`), as in every McPherson matrix met so far (eight
+    /// coupled corners' hold roundings there).
     pub fn outside_bits(&self, values: &[f64]) -> u64 {
         values
             .iter()
