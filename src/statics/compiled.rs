@@ -100,12 +100,12 @@ const INFINITY: usize = 3;
 const ZERO: usize = 4;
 
 /// The registers: an entry's sum, a product, the column's largest L entry,
-/// scratch, the pivot and its reciprocal, the pivot's absolute value, and the
-/// two constants kept in registers.
+/// the pivot's reciprocal, the pivot, its absolute value (and an L entry's
+/// before), and the two constants kept in registers.
 const SUM: Xmm = Xmm::new(0);
 const PRODUCT: Xmm = Xmm::new(1);
 const BIG: Xmm = Xmm::new(2);
-const SCRATCH: Xmm = Xmm::new(3);
+const INVERSE: Xmm = Xmm::new(3);
 const PIVOT: Xmm = Xmm::new(4);
 const PIVOT_ABS: Xmm = Xmm::new(5);
 const ONE_REG: Xmm = Xmm::new(6);
@@ -230,7 +230,7 @@ impl CompiledPlan {
         let columns = s.u_ptr.len().checked_sub(1)?;
         // At most 20 bytes a product (two loads or multiplications of 8,
         // a subtraction of 4), 21 an entry (its start and store of 8 each,
-        // its register copy of 5) and 36 more an L entry (its largest, its
+        // its register copy of 5) and 20 more an L entry (its largest, its
         // scaling), 96 a column (the pivot's test and reciprocal), and 16
         // for the last instruction's scratch ([`Asm`]), written straight
         // into the pages it will run from (each fresh page costs about
@@ -239,18 +239,19 @@ impl CompiledPlan {
             .checked_sub(s.l_ptr[0])?
             .checked_sub(columns)?;
         let bound =
-            s.products.len() * 20 + s.entries.len() * 21 + l_entries * 36 + columns * 96 + 64;
+            s.products.len() * 20 + s.entries.len() * 21 + l_entries * 20 + columns * 96 + 64;
         let mut pages = Writable::new(bound)?;
         let mut a = Asm::new(pages.bytes());
         a.mem(Op::Load, MASK_REG, CONSTANTS, ABS_MASK);
         a.mem(Op::Load, ONE_REG, CONSTANTS, ONE);
         let (mut values_need, mut l_need, mut u_need) = (0, 0, 0);
         let (mut entries, mut products) = (s.entries.iter(), s.products);
-        // One entry: its start, minus its products, stored at `target[at]`.
+        // One entry of `target[at]`: its start, minus its products, in SUM
+        // (the caller stores it).
         // The current column's U entries as they are computed: each is
         // read by the entries after it.
         let mut recent = Recent::new(&PLAN_KEEPS);
-        let mut entry = |a: &mut Asm, recent: &mut Recent, target: Base, at: usize| -> Option<()> {
+        let mut entry = |a: &mut Asm, recent: &Recent, target: Base, at: usize| -> Option<()> {
             let &(from, count) = entries.next()?;
             let (now, rest) = products.split_at_checked(count as usize)?;
             products = rest;
@@ -276,10 +277,6 @@ impl CompiledPlan {
                 &mut l_need
             };
             *need = (*need).max(at + 1);
-            a.store(SUM, target, at);
-            if target == U {
-                recent.keep(a, U, at, SUM);
-            }
             Some(())
         };
         for j in 0..columns {
@@ -289,23 +286,31 @@ impl CompiledPlan {
                 return None;
             }
             for e in us..ue {
-                entry(&mut a, &mut recent, U, e)?;
+                entry(&mut a, &recent, U, e)?;
+                a.store(SUM, U, e);
+                recent.keep(&mut a, U, e, SUM);
             }
+            // The pivot's reciprocal, then each entry of L times it as it is
+            // computed (the plan's order: see `Plan::run_as_loop`).
+            recent.load(&mut a, PIVOT, U, ue - 1);
+            a.reg(Op::Move, INVERSE, ONE_REG);
+            a.reg(Op::Div, INVERSE, PIVOT);
             // The column's largest L entry before scaling, as the plan's
             // `if v.abs() > big { v.abs() } else { big }` (maxsd gives its
             // second operand when either is a NaN).
             a.reg(Op::Xor, BIG, BIG);
             for e in ls..le {
-                entry(&mut a, &mut recent, L, e)?;
-                a.reg(Op::Move, SCRATCH, SUM);
-                a.reg(Op::And, SCRATCH, MASK_REG);
-                a.reg(Op::Max, SCRATCH, BIG);
-                a.reg(Op::Move, BIG, SCRATCH);
+                entry(&mut a, &recent, L, e)?;
+                a.reg(Op::Move, PIVOT_ABS, SUM);
+                a.reg(Op::And, PIVOT_ABS, MASK_REG);
+                a.reg(Op::Max, PIVOT_ABS, BIG);
+                a.reg(Op::Move, BIG, PIVOT_ABS);
+                a.reg(Op::Mul, SUM, INVERSE);
+                a.store(SUM, L, e);
             }
             // Refused unless finite, not zero, and at least the threshold
             // times the largest entry below it (a NaN compares unordered,
             // which `jb` takes).
-            recent.load(&mut a, PIVOT, U, ue - 1);
             a.reg(Op::Move, PIVOT_ABS, PIVOT);
             a.reg(Op::And, PIVOT_ABS, MASK_REG);
             a.mem(Op::Mul, BIG, CONSTANTS, THRESHOLD);
@@ -315,15 +320,7 @@ impl CompiledPlan {
             a.jump_to_label(Jump::AboveOrEqual);
             a.mem(Op::Compare, PIVOT_ABS, CONSTANTS, ZERO);
             a.jump_to_label(Jump::BelowOrEqual);
-            // The reciprocal, and L's column times it.
-            a.reg(Op::Move, SCRATCH, ONE_REG);
-            a.reg(Op::Div, SCRATCH, PIVOT);
-            a.store(SCRATCH, U_INV, j);
-            for e in ls..le {
-                a.mem(Op::Load, SUM, L, e);
-                a.reg(Op::Mul, SUM, SCRATCH);
-                a.store(SUM, L, e);
-            }
+            a.store(INVERSE, U_INV, j);
         }
         a.return_value(1);
         a.label();

@@ -239,24 +239,26 @@ impl Plan {
                 x.set(unsafe { ops.subtract_next_unchecked(start(from), count as usize) });
             }
             let (ls, le) = (l_ptr[j] + 1, l_ptr[j + 1]);
+            // The pivot's reciprocal first, and each entry of L times it as
+            // it is computed (no column's other L entries read it): one
+            // store an entry, not a store, a load and a store; the test
+            // below judges the entries before scaling, as before. (A
+            // refused column is left scaled, the others as they were.)
+            let piv = u[ue - 1].get();
+            let inv = 1.0 / piv;
             // (A NaN is passed over, as by `f64::max`; the solve's
             // finiteness check finds it.)
             let mut big = 0.0f64;
             for (x, &(from, count)) in l[ls..le].iter().zip(next(le - ls)) {
                 // SAFETY: as above.
                 let v = unsafe { ops.subtract_next_unchecked(start(from), count as usize) };
-                x.set(v);
+                x.set(v * inv);
                 big = if v.abs() > big { v.abs() } else { big };
             }
-            let piv = u[ue - 1].get();
             if !(piv.is_finite() && piv != 0.0 && piv.abs() >= threshold * big) {
                 return false;
             }
-            let inv = 1.0 / piv;
             u_inv[j] = inv;
-            for x in &l[ls..le] {
-                x.set(x.get() * inv);
-            }
         }
         true
     }
