@@ -176,6 +176,32 @@ const PLAN_KEEPS: [Xmm; 8] = registers::<8>(8);
 /// sum and a product).
 const SUBSTITUTION_KEEPS: [Xmm; 14] = registers::<14>(2);
 
+// The kept registers are none of those the code computes in, nor more
+// than `Recent` holds (checked when axle is compiled).
+const _: () = {
+    let plan_work = [
+        SUM, PRODUCT, BIG, INVERSE, PIVOT, PIVOT_ABS, ONE_REG, MASK_REG,
+    ];
+    assert!(disjoint(&PLAN_KEEPS, &plan_work) && PLAN_KEEPS.len() <= 16);
+    assert!(disjoint(&SUBSTITUTION_KEEPS, &[SUM, PRODUCT]) && SUBSTITUTION_KEEPS.len() <= 16);
+};
+
+/// Whether no register of `a` is in `b`.
+const fn disjoint(a: &[Xmm], b: &[Xmm]) -> bool {
+    let mut i = 0;
+    while i < a.len() {
+        let mut k = 0;
+        while k < b.len() {
+            if a[i].number() == b[k].number() {
+                return false;
+            }
+            k += 1;
+        }
+        i += 1;
+    }
+    true
+}
+
 /// `N` registers from `xmm{first}` on.
 const fn registers<const N: usize>(first: u8) -> [Xmm; N] {
     let mut r = [Xmm::new(0); N];

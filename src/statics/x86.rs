@@ -50,6 +50,11 @@ impl Xmm {
         Xmm(n)
     }
 
+    /// The register's number.
+    pub const fn number(self) -> u8 {
+        self.0
+    }
+
     /// The register's low three bits (ModRM's field) and its fourth (REX's
     /// R or B bit).
     fn low_and_high(self) -> (u8, u8) {
