@@ -160,6 +160,12 @@ impl Live {
         &self.from
     }
 
+    /// One more than the largest slot of [`Self::from`] (0 for none): the
+    /// least length of a matrix in the full pattern's slots that holds them.
+    pub fn matrix_need(&self) -> usize {
+        self.from_need
+    }
+
     /// `values` (in the full pattern's slots) at the live slots copied
     /// into `a` (the other slots of `a` left as they are), and their
     /// largest magnitude (NaNs passed over). By index, unchecked, in eight

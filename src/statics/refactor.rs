@@ -55,7 +55,7 @@ impl Plan {
         let n = p.dim();
         let (nu, nl) = (f.u_val.len(), f.l_val.len());
         // (The entries start from the full pattern's slots, `live.from`.)
-        let slots = live.from().iter().max().map_or(0, |k| k + 1);
+        let slots = live.matrix_need();
         let big = (nu + nl).max(slots);
         if f.u_ptr.len() != n + 1 || f.l_ptr.len() != n + 1 || big >= FILL as usize {
             return None;
