@@ -415,12 +415,17 @@ mod tests {
         a.return_value(1); // mov eax, 1; ret
         a.label(); // fail:
         a.return_value(0); // xor eax, eax; ret
-        assert!(!a.failed());
         let gnu_as = "f20f104710f20f108e00040000f20f594a08f20f594a78f20f598a80000000\
                       f20f5cc1f20f118200020000f20f1121660f57c0660f28d8660f54df\
                       f20f5fdaf2410f1038f2410f107008f2410f595810660f2eeb\
                       66410f2e6818f20f5ea200100000f20f59ec0f82120000000f830c000000\
                       0f8606000000b801000000c331c0c3";
+        assert_assembled(&a, gnu_as);
+    }
+
+    /// The code written, in full and as GNU as's bytes (in hex).
+    fn assert_assembled(a: &Asm, gnu_as: &str) {
+        assert!(!a.failed());
         let hex: String = a.code().iter().map(|b| format!("{b:02x}")).collect();
         assert_eq!(hex, gnu_as);
     }
@@ -440,11 +445,9 @@ mod tests {
         a.reg(Op::Sub, x(13), x(14)); // subsd xmm13, xmm14
         a.reg(Op::Move, x(0), x(8)); // movapd xmm0, xmm8
         a.mem(Op::Load, x(8), Base::Rdi, 0); // movsd xmm8, [rdi]
-        assert!(!a.failed());
         let gnu_as = "66440f28c8f2410f59ccf2440f109600040000f2440f117a08\
                       f2450f595810f2450f5cee66410f28c0f2440f1007";
-        let hex: String = a.code().iter().map(|b| format!("{b:02x}")).collect();
-        assert_eq!(hex, gnu_as);
+        assert_assembled(&a, gnu_as);
     }
 
     /// A displacement past 32 bits fails the code, and so does a full
