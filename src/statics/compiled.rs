@@ -158,11 +158,12 @@ impl Recent {
         a.reg(Op::Move, self.regs[s], from);
     }
 
-    /// `dst = array[index]`, from its register if one holds it.
-    fn load(&self, a: &mut Asm, dst: Xmm, array: Base, index: usize) {
+    /// `op dst, array[index]`, the operand from its register if one holds
+    /// it (a load from a register is a move).
+    fn operand(&self, a: &mut Asm, op: Op, dst: Xmm, array: Base, index: usize) {
         match self.find(array, index) {
-            Some(r) => a.reg(Op::Move, dst, r),
-            None => a.mem(Op::Load, dst, array, index),
+            Some(r) => a.reg(if matches!(op, Op::Load) { Op::Move } else { op }, dst, r),
+            None => a.mem(op, dst, array, index),
         }
     }
 }
@@ -291,10 +292,7 @@ impl CompiledPlan {
                 let (l, u) = (l as usize, u as usize);
                 (l_need, u_need) = (l_need.max(l + 1), u_need.max(u + 1));
                 a.mem(Op::Load, PRODUCT, L, l);
-                match recent.find(U, u) {
-                    Some(r) => a.reg(Op::Mul, PRODUCT, r),
-                    None => a.mem(Op::Mul, PRODUCT, U, u),
-                }
+                recent.operand(a, Op::Mul, PRODUCT, U, u);
                 a.reg(Op::Sub, SUM, PRODUCT);
             }
             let need = if target == U {
@@ -318,7 +316,7 @@ impl CompiledPlan {
             }
             // The pivot's reciprocal, then each entry of L times it as it is
             // computed (the plan's order: see `Plan::run_as_loop`).
-            recent.load(&mut a, PIVOT, U, ue - 1);
+            recent.operand(&mut a, Op::Load, PIVOT, U, ue - 1);
             a.reg(Op::Move, INVERSE, ONE_REG);
             a.reg(Op::Div, INVERSE, PIVOT);
             // The column's largest L entry before scaling, as the plan's
@@ -456,7 +454,7 @@ impl CompiledSubstitution {
         let mut recent = Recent::new(&SUBSTITUTION_KEEPS);
         let mut row =
             |a: &mut Asm, recent: &Recent, i: usize, pairs: &[(u32, u32)], values: Base| {
-                recent.load(a, SUM, Y, i);
+                recent.operand(a, Op::Load, SUM, Y, i);
                 for &(c, e) in pairs {
                     let (c, e) = (c as usize, e as usize);
                     y_need = y_need.max(c + 1);
@@ -466,7 +464,7 @@ impl CompiledSubstitution {
                         &mut u_need
                     };
                     *need = (*need).max(e + 1);
-                    recent.load(a, PRODUCT, Y, c);
+                    recent.operand(a, Op::Load, PRODUCT, Y, c);
                     a.mem(Op::Mul, PRODUCT, values, e);
                     a.reg(Op::Sub, SUM, PRODUCT);
                 }
