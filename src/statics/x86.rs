@@ -68,6 +68,20 @@ fn rex(r: u8, b: u8) -> Option<u8> {
     (r | b != 0).then_some(0x40 | r << 2 | b)
 }
 
+/// An instruction's start written at the start of `bytes`: its prefix, its
+/// REX byte if it has one, 0F and the opcode; how many bytes that took.
+fn opcode(bytes: &mut [u8; 16], prefix: u8, rex: Option<u8>, code: u8) -> usize {
+    let mut n = 0;
+    for b in [Some(prefix), rex, Some(0x0F), Some(code)]
+        .into_iter()
+        .flatten()
+    {
+        bytes[n] = b;
+        n += 1;
+    }
+    n
+}
+
 /// Scalar double operations `op xmm, xmm/m64` (prefix F2) and the packed
 /// ones used on a register's low lane (prefix 66).
 #[derive(Debug, Clone, Copy)]
@@ -177,11 +191,10 @@ impl<'a> Asm<'a> {
     pub fn reg(&mut self, op: Op, dst: Xmm, src: Xmm) {
         let (prefix, code) = op.code();
         let ((d, r), (s, b)) = (dst.low_and_high(), src.low_and_high());
-        let modrm = 0xC0 | d << 3 | s;
-        match rex(r, b) {
-            Some(x) => self.put([prefix, x, 0x0F, code, modrm]),
-            None => self.put([prefix, 0x0F, code, modrm]),
-        }
+        let mut bytes = [0u8; 16];
+        let n = opcode(&mut bytes, prefix, rex(r, b), code);
+        bytes[n] = 0xC0 | d << 3 | s;
+        self.put16(bytes, n + 1);
     }
 
     /// `op xmm, [base + 8 index]`.
@@ -207,19 +220,7 @@ impl<'a> Asm<'a> {
         // displacement (none, 8 or 32 bits; no base here is rbp or r13,
         // whose mode 0 means another operand).
         let mut bytes = [0u8; 16];
-        let mut n = 0;
-        for b in [
-            Some(prefix),
-            rex(rex_r, u8::from(rex_b)),
-            Some(0x0F),
-            Some(code),
-        ]
-        .into_iter()
-        .flatten()
-        {
-            bytes[n] = b;
-            n += 1;
-        }
+        let n = opcode(&mut bytes, prefix, rex(rex_r, u8::from(rex_b)), code);
         let (mode, width) = match disp {
             0 => (0, 0),
             -128..=127 => (1, 1),
