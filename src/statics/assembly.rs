@@ -10,6 +10,7 @@ use super::coords::{MarkerKin, State, marker_kin};
 use super::error::StaticsError;
 use super::forces::{for_each_element, point_load_into};
 use super::newton::Homotopy;
+use super::pattern::WrenchSlots;
 use super::tangent::NewtonMatrix;
 use super::wrench::Wrench;
 use crate::geom::Vec3;
@@ -45,6 +46,9 @@ pub(crate) struct Workspace {
     wrenches: Box<[Wrench; 2]>,
     /// Each kept equation's row before it is scaled (see `scatter`).
     rows: Vec<Row>,
+    /// The slots of each wrench's blocks in the sparse storage, in the
+    /// order an evaluation writes them ([`Tangents`]).
+    slots: Vec<WrenchSlots>,
 }
 
 /// A kept equation's value, its gradient (rotation columns times the
@@ -96,6 +100,7 @@ impl Workspace {
                 Wrench::new(None, None, Vec3::zeros(), Vec3::zeros())
             })),
             rows: vec![Row::default(); m],
+            slots: Vec::new(),
         }
     }
 
@@ -139,67 +144,33 @@ impl Workspace {
             scale,
             wrenches,
             rows,
+            slots,
         } = self;
+        let scale: &[f64] = scale;
         r.iter_mut().for_each(|v| *v = 0.0);
         if tangent {
             a.clear();
         }
         let mut elem = 0.0f64;
-        let mut inside = true;
         // (The wrenches come whole: a joint's unit reactions are summed times
         // their multipliers before, see `group` below.)
-        fn add(
-            w: &Wrench,
-            r: &mut [f64],
-            a: &mut NewtonMatrix,
-            tangent: bool,
-            scale: &[f64],
-            inside: &mut bool,
-        ) {
+        let mut tangents = Tangents {
+            a,
+            scale,
+            slots,
+            next: 0,
+            inside: true,
+        };
+        fn add(w: &Wrench, r: &mut [f64], tangents: &mut Tangents, tangent: bool) {
+            let scale = tangents.scale;
             w.each_force(|i, v| r[i] += v * scale[i]);
             if tangent {
-                add_tangent(w, a, scale, inside);
-            }
-        }
-        // A 3×3 block's rows are three translations or three rotations of
-        // one part, and so are its columns: one scale for its rows, one for
-        // its columns, each entry `v * si * sj` as before they were hoisted.
-        fn add_tangent(w: &Wrench, a: &mut NewtonMatrix, scale: &[f64], inside: &mut bool) {
-            match a {
-                // Column by column: one bounds check per column of a block.
-                NewtonMatrix::Dense(a) => w.each_tangent(|ro, co, blk| {
-                    let (si, sj) = (scale[ro], scale[co]);
-                    for b in 0..3 {
-                        let col = &mut a.col_as_slice_mut(co + b)[ro..ro + 3];
-                        for (x, v) in col.iter_mut().zip(blk.column(b).iter()) {
-                            *x += v * si * sj;
-                        }
-                    }
-                }),
-                // The same products and sums into the pattern's slots: rows
-                // `ro..ro + 3` are one half of a part's rows, contiguous there.
-                // (The values as a slice: through the vector, every store
-                // made its pointer and length be read again.)
-                NewtonMatrix::Sparse(pat, vals) => {
-                    let vals = vals.as_mut_slice();
-                    w.each_tangent(|ro, co, blk| {
-                        let Some(slots) = pat.block_slots(ro, co) else {
-                            *inside = false;
-                            return;
-                        };
-                        let (si, sj) = (scale[ro], scale[co]);
-                        for (b, &at) in slots.iter().enumerate() {
-                            for (x, v) in vals[at..at + 3].iter_mut().zip(blk.column(b).iter()) {
-                                *x += v * si * sj;
-                            }
-                        }
-                    })
-                }
+                tangents.add(w);
             }
         }
         for_each_element(&p.model, &p.layout, st, |_, w| {
             elem = elem.max(w.size(l));
-            add(w, r, a, tangent, scale, &mut inside);
+            add(w, r, &mut tangents, tangent);
         })?;
         *element_scale = elem;
         // Two wrenches written in place (each whole: `Wrench::reset`), not
@@ -215,7 +186,7 @@ impl Workspace {
             let w = &mut *w0;
             if point_load_into(&p.model, &p.layout, st, ld, w) {
                 *load_scale = load_scale.max(w.size(l));
-                add(w, r, a, tangent, scale, &mut inside);
+                add(w, r, &mut tangents, tangent);
             }
         }
         // A joint's equations are consecutive and share its marker frames
@@ -284,7 +255,7 @@ impl Workspace {
                     sum.add_loads(w, lam);
                 } else {
                     if group.is_some() {
-                        add_tangent(sum, a, scale, &mut inside);
+                        tangents.add(sum);
                     }
                     w.scale_loads(lam);
                     std::mem::swap(&mut w, &mut sum);
@@ -293,8 +264,9 @@ impl Workspace {
             }
         }
         if group.is_some() {
-            add_tangent(sum, a, scale, &mut inside);
+            tangents.add(sum);
         }
+        let Tangents { a, mut inside, .. } = tangents;
         // Each row scaled by its gradient's norm, once every row is known:
         // a row's square root and division wait on the sum of its squares,
         // and taken in the loop above they held up the equations after
@@ -419,6 +391,72 @@ impl Workspace {
     /// The Newton matrix as a nalgebra matrix (for the SVD of error paths).
     pub fn matrix(&self) -> DMatrix<f64> {
         self.a.to_dense()
+    }
+}
+
+/// The tangents of an evaluation's wrenches added into the Newton matrix
+/// `a`, scaled by `scale`; `inside` false once a block fell outside the
+/// sparsity pattern. An evaluation writes its wrenches in the same order
+/// every time (the elements, the loads, the joints' groups of equations),
+/// each between the same parts: the `next`-th wrench's blocks' slots are
+/// found once and kept in `slots`, checked against its parts (another
+/// case's loads may act on others).
+struct Tangents<'a> {
+    a: &'a mut NewtonMatrix,
+    scale: &'a [f64],
+    slots: &'a mut Vec<WrenchSlots>,
+    next: usize,
+    inside: bool,
+}
+
+impl Tangents<'_> {
+    /// Adds `w`'s tangent. A 3×3 block's rows are three translations or
+    /// three rotations of one part, and so are its columns: one scale for
+    /// its rows, one for its columns, each entry `v * si * sj` as before
+    /// they were hoisted.
+    fn add(&mut self, w: &Wrench) {
+        let scale = self.scale;
+        match &mut *self.a {
+            // Column by column: one bounds check per column of a block.
+            NewtonMatrix::Dense(a) => w.each_tangent(|_, ro, co, blk| {
+                let (si, sj) = (scale[ro], scale[co]);
+                for b in 0..3 {
+                    let col = &mut a.col_as_slice_mut(co + b)[ro..ro + 3];
+                    for (x, v) in col.iter_mut().zip(blk.column(b).iter()) {
+                        *x += v * si * sj;
+                    }
+                }
+            }),
+            // The same products and sums into the pattern's slots: rows
+            // `ro..ro + 3` are one half of a part's rows, contiguous there.
+            // (The values as a slice: through the vector, every store
+            // made its pointer and length be read again.)
+            NewtonMatrix::Sparse(pat, vals) => {
+                let offsets = w.offsets();
+                let k = self.next;
+                self.next += 1;
+                // (`k` is at most the wrenches kept: each call keeps one.)
+                match self.slots.get_mut(k) {
+                    Some(s) if s.are_for(offsets) => {}
+                    Some(s) => *s = pat.wrench_slots(offsets),
+                    None => self.slots.push(pat.wrench_slots(offsets)),
+                }
+                let (slots, vals) = (&self.slots[k], vals.as_mut_slice());
+                let inside = &mut self.inside;
+                w.each_tangent(|local, ro, co, blk| {
+                    let Some(at) = slots.block(local) else {
+                        *inside = false;
+                        return;
+                    };
+                    let (si, sj) = (scale[ro], scale[co]);
+                    for (b, &at) in at.iter().enumerate() {
+                        for (x, v) in vals[at..at + 3].iter_mut().zip(blk.column(b).iter()) {
+                            *x += v * si * sj;
+                        }
+                    }
+                })
+            }
+        }
     }
 }
 

@@ -53,6 +53,37 @@ impl ConstraintBlock {
     }
 }
 
+/// The slots of every 3×3 block of `K` a wrench between two given parts
+/// can write ([`Pattern::wrench_slots`]): a wrench's parts do not change
+/// from one evaluation to the next, so the assembly finds its blocks'
+/// slots once and reads them by the blocks' local places
+/// ([`super::wrench::Wrench::each_tangent`]), not by a search of the
+/// pattern per block (44 instructions a block, 2 % of a McPherson case's).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct WrenchSlots {
+    /// The wrench's coordinate offsets the slots are for.
+    offsets: [Option<usize>; 2],
+    /// Per local block `4 * row block + column block`, its three columns'
+    /// first slots; [`NOT_COUPLED`] first where the pattern lacks it.
+    at: [[u32; 3]; 16],
+}
+
+impl WrenchSlots {
+    /// Whether these are the slots of a wrench with `offsets`.
+    #[inline]
+    pub fn are_for(&self, offsets: [Option<usize>; 2]) -> bool {
+        self.offsets == offsets
+    }
+
+    /// The three columns' first slots of local block `k`, None if the
+    /// pattern lacks the block.
+    #[inline]
+    pub fn block(&self, k: usize) -> Option<[usize; 3]> {
+        let at = self.at[k];
+        (at[0] != NOT_COUPLED).then(|| at.map(|a| a as usize))
+    }
+}
+
 /// The column order of a [`Pattern::restricted`] pattern: AMD's of its own
 /// slots, or one given (the whole pattern's, or the one a factorisation
 /// chose, which widened slots keep).
@@ -353,6 +384,23 @@ impl Pattern {
                 Some([at, at + len, at + 2 * len])
             }
         }
+    }
+
+    /// The slots of the 3×3 blocks a wrench with coordinate `offsets`
+    /// (its parts I and J, [`super::wrench::Wrench::offsets`]) writes, by
+    /// [`Self::block_slots`].
+    pub fn wrench_slots(&self, offsets: [Option<usize>; 2]) -> WrenchSlots {
+        // A block's first row or column: its side's offset and its half.
+        let first = |b: usize| offsets[b / 2].map(|o| o + 3 * (b % 2));
+        let at = std::array::from_fn(|k| {
+            match (first(k / 4), first(k % 4)) {
+                // (The slots fit in 32 bits: `Pattern::new`.)
+                (Some(r), Some(c)) => self.block_slots(r, c).map(|s| s.map(|a| a as u32)),
+                _ => None,
+            }
+            .unwrap_or([NOT_COUPLED; 3])
+        });
+        WrenchSlots { offsets, at }
     }
 
     /// The slots of the two entries of multiplier `k`'s equation at

@@ -137,3 +137,64 @@ fn the_pattern_holds_every_entry_of_the_mcpherson_matrix() {
         pat.nnz()
     );
 }
+
+/// The sparse assembly, which keeps each wrench's slots from one
+/// evaluation to the next ([`Pattern::wrench_slots`]), writes the dense
+/// assembly's matrix to the bit, also when a load moves to another part
+/// between evaluations (its slots then found again) and back.
+#[test]
+fn the_sparse_assembly_keeps_its_slots_only_for_the_same_parts() {
+    let m = crate::statics::testkit::mcpherson();
+    let p = Problem::new(&m).expect("problem");
+    let mut st = State::design(&m);
+    let dq = nalgebra::DVector::from_fn(p.layout.n(), |i, _| 0.01 * ((i as f64) * 0.7).cos());
+    st.apply(&p.layout, &dq);
+    st.lambda = (0..p.kept.len()).map(|k| 1.0 - 0.3 * k as f64).collect();
+    let contact = m.wheels[0].contact;
+    let at_contact = m.markers[contact.index()].part;
+    // A marker of another moving part than the contact's.
+    let other = (0..m.markers.len())
+        .map(|i| crate::model::MarkerId(i as u32))
+        .find(|&k| {
+            let part = m.markers[k.index()].part;
+            part != at_contact && p.layout.block_of_part[part.index()].is_some()
+        })
+        .expect("a marker of another moving part");
+    let load = |marker| crate::model::PointLoad {
+        marker,
+        force: crate::geom::Vec3::new(1500.0, -2500.0, 4000.0),
+        torque: crate::geom::Vec3::new(0.0, 2.0e4, 0.0),
+    };
+    let mut sparse = Workspace::new(&p);
+    assert!(
+        matches!(sparse.a, crate::statics::tangent::NewtonMatrix::Sparse(..)),
+        "the sparse path"
+    );
+    let mut moved = 0;
+    for marker in [contact, other, other, contact] {
+        let loads = [load(marker)];
+        let mut dense = Workspace::dense(&p);
+        dense.eval(&p, &st, &loads, true).expect("evaluates");
+        sparse.eval(&p, &st, &loads, true).expect("evaluates");
+        let (want, got) = (dense.matrix(), sparse.matrix());
+        for (w, g) in want.iter().zip(got.iter()) {
+            assert_eq!(w.to_bits(), g.to_bits(), "{w} {g}");
+        }
+        moved += usize::from(want != dense_at(&p, &st, contact));
+    }
+    // The other marker's load changes the matrix (its stiffness lands in
+    // other blocks), so the test moves a wrench to other slots.
+    assert_eq!(moved, 2);
+}
+
+/// The dense Newton matrix at `st` under a load at `marker`.
+fn dense_at(p: &Problem, st: &State, marker: crate::model::MarkerId) -> nalgebra::DMatrix<f64> {
+    let mut ws = Workspace::dense(p);
+    let loads = [crate::model::PointLoad {
+        marker,
+        force: crate::geom::Vec3::new(1500.0, -2500.0, 4000.0),
+        torque: crate::geom::Vec3::new(0.0, 2.0e4, 0.0),
+    }];
+    ws.eval(p, st, &loads, true).expect("evaluates");
+    ws.matrix()
+}

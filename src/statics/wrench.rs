@@ -313,8 +313,13 @@ impl Wrench {
         }
     }
 
-    /// Calls `f(first row, first column, block)` for each 3×3 block of the
-    /// tangent that couples two moving parts and is not identically zero.
+    /// Calls `f(local, first row, first column, block)` for each 3×3 block
+    /// of the tangent that couples two moving parts and is not identically
+    /// zero; `local` is the block's place in the 12×12 local tangent,
+    /// `4 * row block + column block`, each block `2 * side + half` (side
+    /// I or J, half translations or rotations): where a caller that has
+    /// the wrench's blocks' slots at hand finds them
+    /// ([`super::pattern::WrenchSlots`]).
     ///
     /// The same entries as [`Self::tangent`], computed only for the columns of
     /// moving parts, and only from the 3×3 blocks of `dg`, `dm` and the arms'
@@ -325,7 +330,7 @@ impl Wrench {
     /// the terms present are combined in the order of [`Self::tangent`], its
     /// products with skew matrices as cross products ([`skew_times`]), so
     /// every entry is the same to the bit but for the sign of a zero.
-    pub fn each_tangent(&self, mut f: impl FnMut(usize, usize, &Mat3)) {
+    pub fn each_tangent(&self, mut f: impl FnMut(usize, usize, usize, &Mat3)) {
         let offs = self.offsets();
         let minus_g = -self.g;
         for (sc, co) in offs.iter().enumerate() {
@@ -338,7 +343,7 @@ impl Wrench {
                 // Rows of I: [dg; -g~ dr_i + r_i~ dg + dm]; of J: [-dg; g~ drho - rho~ dg - dm].
                 if let Some(ro) = offs[0] {
                     if let Some(dg) = dg {
-                        f(ro, col, dg);
+                        f(k, ro, col, dg);
                     }
                     let dr = self.dr_i_block(k);
                     if dr.is_some() || dg.is_some() || dm.is_some() {
@@ -352,12 +357,12 @@ impl Wrench {
                         if let Some(dm) = dm {
                             b += dm;
                         }
-                        f(ro + 3, col, &b);
+                        f(4 + k, ro + 3, col, &b);
                     }
                 }
                 if let Some(ro) = offs[1] {
                     if let Some(dg) = dg {
-                        f(ro, col, &(-dg));
+                        f(8 + k, ro, col, &(-dg));
                     }
                     let dr = self.drho_block(k);
                     if dr.is_some() || dg.is_some() || dm.is_some() {
@@ -371,7 +376,7 @@ impl Wrench {
                         if let Some(dm) = dm {
                             b -= dm;
                         }
-                        f(ro + 3, col, &b);
+                        f(12 + k, ro + 3, col, &b);
                     }
                 }
             }
@@ -445,7 +450,11 @@ mod tests {
             w.rho_motion = motion;
             let full = w.tangent();
             let mut got = DMatrix::zeros(18, 18);
-            w.each_tangent(|r, c, b| {
+            w.each_tangent(|k, r, c, b| {
+                // The local index names the block's place in `[I; J]`.
+                let place = |b: usize, o: [Option<usize>; 2]| o[b / 2].map(|o| o + 3 * (b % 2));
+                assert_eq!(place(k / 4, w.offsets()), Some(r));
+                assert_eq!(place(k % 4, w.offsets()), Some(c));
                 got.view_mut((r, c), (3, 3)).add_assign(b);
             });
             let mut want = DMatrix::zeros(18, 18);
