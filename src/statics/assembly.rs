@@ -399,8 +399,10 @@ impl Workspace {
 /// sparsity pattern. An evaluation writes its wrenches in the same order
 /// every time (the elements, the loads, the joints' groups of equations),
 /// each between the same parts: the `next`-th wrench's blocks' slots are
-/// found once and kept in `slots`, checked against its parts (another
-/// case's loads may act on others).
+/// found once and kept in `slots`, checked against its parts. The slots
+/// depend on the parts alone, so the check is all correctness needs:
+/// where the order shifts (a case with another number of loads, a load
+/// on another part), a kept entry for other parts is found again.
 struct Tangents<'a> {
     a: &'a mut NewtonMatrix,
     scale: &'a [f64],

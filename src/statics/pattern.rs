@@ -58,7 +58,8 @@ impl ConstraintBlock {
 /// from one evaluation to the next, so the assembly finds its blocks'
 /// slots once and reads them by the blocks' local places
 /// ([`super::wrench::Wrench::each_tangent`]), not by a search of the
-/// pattern per block (44 instructions a block, 2 % of a McPherson case's).
+/// pattern per block (44 instructions a block: 2 % of a McPherson case's
+/// instructions).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct WrenchSlots {
     /// The wrench's coordinate offsets the slots are for.
