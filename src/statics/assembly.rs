@@ -83,6 +83,17 @@ impl Workspace {
         Workspace::with_matrix(p, NewtonMatrix::dense(n + m))
     }
 
+    /// Buffers with the Newton matrix in the slots of `pattern` (which may
+    /// lack entries of `p`'s matrix: the fallback's test).
+    #[cfg(test)]
+    pub fn with_pattern(
+        p: &Problem,
+        pattern: std::sync::Arc<super::pattern::Pattern>,
+    ) -> Workspace {
+        let nnz = pattern.nnz();
+        Workspace::with_matrix(p, NewtonMatrix::Sparse(pattern, vec![0.0; nnz]))
+    }
+
     /// Buffers around the matrix `a` (made once: a dense matrix of the car's
     /// 348 unknowns, made and dropped, was 3 % of a case from a new solver).
     fn with_matrix(p: &Problem, a: NewtonMatrix) -> Workspace {

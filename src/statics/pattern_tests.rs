@@ -187,6 +187,48 @@ fn the_sparse_assembly_keeps_its_slots_only_for_the_same_parts() {
     assert_eq!(moved, 2);
 }
 
+/// A block outside the pattern (a bushing coupling the two arms, in a
+/// workspace given the McPherson's own pattern, where they are not
+/// coupled) is found by the kept slots' check, and the evaluation falls
+/// back to dense storage: the dense assembly's matrix, to the bit.
+#[test]
+fn a_block_outside_the_pattern_falls_back_to_the_dense_matrix() {
+    let base = include_str!("../../examples/mcpherson.axle");
+    let coupled = format!(
+        "{base}\nbushing arms {{\n    i front_arm.B\n    j rear_arm.A\n    k (100, 200, 300) N/mm\n    kt (400, 500, 600) N*mm/deg\n}}\n"
+    );
+    let (_, c) = crate::check::check_str("coupled.axle", &coupled);
+    let m = c.model.expect("the coupled model checks");
+    let own = Problem::new(&crate::statics::testkit::mcpherson()).expect("problem");
+    let p = Problem::new(&m).expect("problem");
+    assert_eq!(p.layout.n() + p.kept.len(), own.layout.n() + own.kept.len());
+    let narrow = own.pattern.clone().expect("the sparse path");
+    let wide = p.pattern.clone().expect("the sparse path");
+    assert!(narrow.nnz() < wide.nnz(), "the arms' coupling adds slots");
+    let mut st = State::design(&m);
+    let dq = nalgebra::DVector::from_fn(p.layout.n(), |i, _| 0.01 * ((i as f64) * 0.3).sin());
+    st.apply(&p.layout, &dq);
+    st.lambda = (0..p.kept.len()).map(|k| 0.5 + 0.2 * k as f64).collect();
+    let mut ws = Workspace::with_pattern(&p, narrow);
+    ws.eval(&p, &st, &[], true).expect("evaluates");
+    assert!(
+        matches!(ws.a, crate::statics::tangent::NewtonMatrix::Dense(_)),
+        "fell back to dense storage"
+    );
+    let mut dense = Workspace::dense(&p);
+    dense.eval(&p, &st, &[], true).expect("evaluates");
+    for (w, g) in dense.matrix().iter().zip(ws.matrix().iter()) {
+        assert_eq!(w.to_bits(), g.to_bits(), "{w} {g}");
+    }
+    // With its own pattern, the coupled model stays sparse.
+    let mut own_slots = Workspace::with_pattern(&p, wide);
+    own_slots.eval(&p, &st, &[], true).expect("evaluates");
+    assert!(matches!(
+        own_slots.a,
+        crate::statics::tangent::NewtonMatrix::Sparse(..)
+    ));
+}
+
 /// The dense Newton matrix at `st` under a load at `marker`.
 fn dense_at(p: &Problem, st: &State, marker: crate::model::MarkerId) -> nalgebra::DMatrix<f64> {
     let mut ws = Workspace::dense(p);
