@@ -88,10 +88,10 @@ impl Workspace {
     #[cfg(test)]
     pub fn with_pattern(
         p: &Problem,
-        pattern: std::sync::Arc<super::pattern::Pattern>,
+        pattern: &std::sync::Arc<super::pattern::Pattern>,
     ) -> Workspace {
-        let nnz = pattern.nnz();
-        Workspace::with_matrix(p, NewtonMatrix::Sparse(pattern, vec![0.0; nnz]))
+        let (n, m) = (p.layout.n(), p.kept.len());
+        Workspace::with_matrix(p, NewtonMatrix::new(n + m, Some(pattern)))
     }
 
     /// Buffers around the matrix `a` (made once: a dense matrix of the car's

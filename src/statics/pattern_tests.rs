@@ -104,18 +104,13 @@ fn the_pattern_holds_every_entry_of_the_mcpherson_matrix() {
     let m = crate::statics::testkit::mcpherson();
     let p = Problem::new(&m).expect("problem");
     let pat = Pattern::new(&p).expect("pattern");
-    let mut st = State::design(&m);
-    let dq = nalgebra::DVector::from_fn(p.layout.n(), |i, _| 0.01 * ((i as f64) * 0.7).sin());
-    st.apply(&p.layout, &dq);
-    st.lambda = (0..p.kept.len()).map(|k| 1.0 + k as f64).collect();
+    let st = away_from_equilibrium(&m, &p);
     let loads = vec![crate::model::PointLoad {
         marker: m.wheels[0].contact,
         force: crate::geom::Vec3::new(2000.0, -3000.0, 4500.0),
         torque: crate::geom::Vec3::zeros(),
     }];
-    let mut ws = Workspace::dense(&p);
-    ws.eval(&p, &st, &loads, true).expect("evaluates");
-    let a = ws.matrix();
+    let a = dense_matrix(&p, &st, &loads);
     let mut inside = vec![false; pat.dim() * pat.dim()];
     for j in 0..pat.dim() {
         for &i in &pat.row_idx[pat.col_ptr[j]..pat.col_ptr[j + 1]] {
@@ -146,10 +141,7 @@ fn the_pattern_holds_every_entry_of_the_mcpherson_matrix() {
 fn the_sparse_assembly_keeps_its_slots_only_for_the_same_parts() {
     let m = crate::statics::testkit::mcpherson();
     let p = Problem::new(&m).expect("problem");
-    let mut st = State::design(&m);
-    let dq = nalgebra::DVector::from_fn(p.layout.n(), |i, _| 0.01 * ((i as f64) * 0.7).cos());
-    st.apply(&p.layout, &dq);
-    st.lambda = (0..p.kept.len()).map(|k| 1.0 - 0.3 * k as f64).collect();
+    let st = away_from_equilibrium(&m, &p);
     let contact = m.wheels[0].contact;
     let at_contact = m.markers[contact.index()].part;
     // A marker of another moving part than the contact's.
@@ -170,17 +162,14 @@ fn the_sparse_assembly_keeps_its_slots_only_for_the_same_parts() {
         matches!(sparse.a, crate::statics::tangent::NewtonMatrix::Sparse(..)),
         "the sparse path"
     );
+    let at_the_contact = dense_matrix(&p, &st, &[load(contact)]);
     let mut moved = 0;
     for marker in [contact, other, other, contact] {
         let loads = [load(marker)];
-        let mut dense = Workspace::dense(&p);
-        dense.eval(&p, &st, &loads, true).expect("evaluates");
+        let want = dense_matrix(&p, &st, &loads);
         sparse.eval(&p, &st, &loads, true).expect("evaluates");
-        let (want, got) = (dense.matrix(), sparse.matrix());
-        for (w, g) in want.iter().zip(got.iter()) {
-            assert_eq!(w.to_bits(), g.to_bits(), "{w} {g}");
-        }
-        moved += usize::from(want != dense_at(&p, &st, contact));
+        assert_same_bits(&want, &sparse.matrix());
+        moved += usize::from(want != at_the_contact);
     }
     // The other marker's load changes the matrix (its stiffness lands in
     // other blocks), so the test moves a wrench to other slots.
@@ -202,24 +191,17 @@ fn a_block_outside_the_pattern_falls_back_to_the_dense_matrix() {
     let own = Problem::new(&crate::statics::testkit::mcpherson()).expect("problem");
     let p = Problem::new(&m).expect("problem");
     assert_eq!(p.layout.n() + p.kept.len(), own.layout.n() + own.kept.len());
-    let narrow = own.pattern.clone().expect("the sparse path");
-    let wide = p.pattern.clone().expect("the sparse path");
+    let narrow = own.pattern.as_ref().expect("the sparse path");
+    let wide = p.pattern.as_ref().expect("the sparse path");
     assert!(narrow.nnz() < wide.nnz(), "the arms' coupling adds slots");
-    let mut st = State::design(&m);
-    let dq = nalgebra::DVector::from_fn(p.layout.n(), |i, _| 0.01 * ((i as f64) * 0.3).sin());
-    st.apply(&p.layout, &dq);
-    st.lambda = (0..p.kept.len()).map(|k| 0.5 + 0.2 * k as f64).collect();
+    let st = away_from_equilibrium(&m, &p);
     let mut ws = Workspace::with_pattern(&p, narrow);
     ws.eval(&p, &st, &[], true).expect("evaluates");
     assert!(
         matches!(ws.a, crate::statics::tangent::NewtonMatrix::Dense(_)),
         "fell back to dense storage"
     );
-    let mut dense = Workspace::dense(&p);
-    dense.eval(&p, &st, &[], true).expect("evaluates");
-    for (w, g) in dense.matrix().iter().zip(ws.matrix().iter()) {
-        assert_eq!(w.to_bits(), g.to_bits(), "{w} {g}");
-    }
+    assert_same_bits(&dense_matrix(&p, &st, &[]), &ws.matrix());
     // With its own pattern, the coupled model stays sparse.
     let mut own_slots = Workspace::with_pattern(&p, wide);
     own_slots.eval(&p, &st, &[], true).expect("evaluates");
@@ -229,14 +211,30 @@ fn a_block_outside_the_pattern_falls_back_to_the_dense_matrix() {
     ));
 }
 
-/// The dense Newton matrix at `st` under a load at `marker`.
-fn dense_at(p: &Problem, st: &State, marker: crate::model::MarkerId) -> nalgebra::DMatrix<f64> {
+/// A state of `m` away from equilibrium: every coordinate moved and every
+/// multiplier non-zero, so every entry the matrix can have is written.
+fn away_from_equilibrium(m: &crate::model::Model, p: &Problem) -> State {
+    let mut st = State::design(m);
+    let dq = nalgebra::DVector::from_fn(p.layout.n(), |i, _| 0.01 * ((i as f64) * 0.7).sin());
+    st.apply(&p.layout, &dq);
+    st.lambda = (0..p.kept.len()).map(|k| 1.0 + k as f64).collect();
+    st
+}
+
+/// The dense assembly's Newton matrix at `st` under `loads`.
+fn dense_matrix(
+    p: &Problem,
+    st: &State,
+    loads: &[crate::model::PointLoad],
+) -> nalgebra::DMatrix<f64> {
     let mut ws = Workspace::dense(p);
-    let loads = [crate::model::PointLoad {
-        marker,
-        force: crate::geom::Vec3::new(1500.0, -2500.0, 4000.0),
-        torque: crate::geom::Vec3::new(0.0, 2.0e4, 0.0),
-    }];
-    ws.eval(p, st, &loads, true).expect("evaluates");
+    ws.eval(p, st, loads, true).expect("evaluates");
     ws.matrix()
+}
+
+/// `got` is `want` to the bit.
+fn assert_same_bits(want: &nalgebra::DMatrix<f64>, got: &nalgebra::DMatrix<f64>) {
+    for (w, g) in want.iter().zip(got.iter()) {
+        assert_eq!(w.to_bits(), g.to_bits(), "{w} {g}");
+    }
 }
